@@ -1,0 +1,94 @@
+// Image I/O: EXR round trips are lossless for float, PNG round trips within 8-bit precision,
+// and bad paths give messages naming the file.
+#include "renderer/image/image_io.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+namespace tex {
+namespace {
+
+std::string tempPath(const std::string& name) {
+  return (std::filesystem::temp_directory_path() / ("tex_image_io_" + name)).string();
+}
+
+RgbImage gradient(int width, int height) {
+  RgbImage image{width, height, std::vector<float>(size_t(width) * height * 3)};
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x)
+      for (int c = 0; c < 3; ++c)
+        image.rgb[(size_t(y) * width + x) * 3 + c] = float(x + 1) / width * float(c + 1) / 3.0f + 0.001f * y;
+  return image;
+}
+
+TEST(ImageIo, ExrFloatRoundTripIsLosslessAndKeepsMetadata) {
+  const std::string path = tempPath("rt.exr");
+  RgbImage image = gradient(7, 5);
+  image.rgb[4] = 1234.5678f;
+  ASSERT_EQ(writeRgbImage(path, image, {{"tex.seed", "42"}, {"tex.integrator", "analytic"}}), "");
+  RgbImage back;
+  ASSERT_EQ(readRgbImage(path, back), "");
+  EXPECT_EQ(back.width, 7);
+  EXPECT_EQ(back.height, 5);
+  EXPECT_EQ(back.rgb, image.rgb);
+  ExrImage exr;
+  ASSERT_EQ(readExr(path, exr), "");
+  EXPECT_EQ(exr.metadata["tex.seed"], "42");
+  EXPECT_EQ(exr.metadata["tex.integrator"], "analytic");
+  std::filesystem::remove(path);
+}
+
+TEST(ImageIo, ExrHalfChannelsRoundTripWithinHalfPrecision) {
+  const std::string path = tempPath("half.exr");
+  ExrImage image;
+  image.width = 4;
+  image.height = 3;
+  for (const char* name : {"R", "G", "B", "variance.R"}) {
+    ExrChannel c{name, {}};
+    for (int i = 0; i < 12; ++i) c.values.push_back(0.1f * i + 0.37f);
+    image.channels.push_back(c);
+  }
+  ASSERT_EQ(writeExr(path, image, ExrPixelType::Half), "");
+  ExrImage back;
+  ASSERT_EQ(readExr(path, back), "");
+  ASSERT_NE(back.find("variance.R"), nullptr);
+  for (int i = 0; i < 12; ++i) EXPECT_NEAR(back.find("variance.R")->values[i], 0.1f * i + 0.37f, 2e-3f);
+  std::filesystem::remove(path);
+}
+
+TEST(ImageIo, PngRoundTripWithinEightBits) {
+  const std::string path = tempPath("rt.png");
+  RgbImage image = gradient(8, 4);
+  ASSERT_EQ(writeRgbImage(path, image), "");
+  RgbImage back;
+  ASSERT_EQ(readRgbImage(path, back), "");
+  ASSERT_EQ(back.rgb.size(), image.rgb.size());
+  for (size_t i = 0; i < image.rgb.size(); ++i) {
+    float expected = std::min(image.rgb[i], 1.0f);
+    EXPECT_NEAR(linearToSrgb(back.rgb[i]), linearToSrgb(expected), 0.5f / 255.0f + 1e-5f);
+  }
+  std::filesystem::remove(path);
+}
+
+TEST(ImageIo, ErrorsNameTheFile) {
+  RgbImage image;
+  std::string missing = tempPath("does_not_exist.exr");
+  std::string error = readRgbImage(missing, image);
+  EXPECT_NE(error.find(missing), std::string::npos) << error;
+  const std::string garbage = tempPath("garbage.exr");
+  FILE* f = std::fopen(garbage.c_str(), "wb");
+  std::fputs("not an exr", f);
+  std::fclose(f);
+  error = readRgbImage(garbage, image);
+  EXPECT_NE(error.find(garbage), std::string::npos) << error;
+  std::filesystem::remove(garbage);
+  EXPECT_NE(writeRgbImage("/nonexistent_dir/x.exr", gradient(2, 2)), "");
+  EXPECT_NE(writeRgbImage(tempPath("x.bmp"), gradient(2, 2)), "");
+  EXPECT_NE(writeRgbImage(tempPath("x.exr"), RgbImage{2, 2, {1.0f}}), "");
+}
+
+}  // namespace
+}  // namespace tex
