@@ -1,0 +1,47 @@
+// The sampler a kernel sees: a pure function of (seed, sample index, dimension) in [0,1).
+// Dimension conventions (shared by every kernel so that the film is stratified):
+//   0, 1  film position x, y (the global index is the film stratum: the first 2^m indices of
+//         the Sobol sampler form a (0,m,2)-net over the whole image);
+//   2     wavelength group rotation;
+//   3...  the kernel's own dimensions (kFirstKernelDimension).
+#pragma once
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace tex::sampling {
+
+enum class SamplerKind : uint8_t { Sobol = 0, Random = 1 };
+
+inline constexpr int kFilmDimensionX = 0;
+inline constexpr int kFilmDimensionY = 1;
+inline constexpr int kWavelengthDimension = 2;
+inline constexpr int kFirstKernelDimension = 3;
+
+struct FilmPosition {
+  float x = 0, y = 0;  // [0,1)^2, x to the right, y downwards
+};
+
+class Sampler {
+ public:
+  Sampler(SamplerKind kind, uint64_t seed) : kind_(kind), seed_(seed) {}
+
+  // Coordinate `dimension` of sample `index`, in [0,1).
+  float get(uint64_t index, int dimension) const;
+  // 32 fixed-point bits of the same coordinate (for exact stratification tests).
+  uint32_t getBits(uint64_t index, int dimension) const;
+  // Dimensions 0 and 1: where sample `index` lands on the film.
+  FilmPosition filmPosition(uint64_t index) const;
+
+  SamplerKind kind() const { return kind_; }
+  uint64_t seed() const { return seed_; }
+
+ private:
+  SamplerKind kind_;
+  uint64_t seed_;
+};
+
+const char* samplerName(SamplerKind kind);
+std::optional<SamplerKind> parseSamplerKind(const std::string& name);
+
+}  // namespace tex::sampling
