@@ -1,0 +1,70 @@
+// The stream model: an input stream of sample indices [a, b), one kernel that maps each index
+// to zero or more output records, and sinks that consume the records chunk by chunk. The
+// kernel must be a pure function of its index (and of read-only state and the read-write
+// cache); then the set of records is a function of the index range alone, whatever the thread
+// count or chunking. The runtime knows nothing of light transport: Record is any type.
+#pragma once
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "runtime/chunk_scheduler.h"
+#include "runtime/index_range.h"
+
+namespace tex::runtime {
+
+// The records one chunk produced, in index order.
+template <class Record>
+struct ChunkRecords {
+  uint64_t chunkIndex = 0;
+  IndexRange indices;
+  std::span<const Record> records;
+};
+
+// A consumer of records. consume() is called concurrently from different worker slots (one
+// call per chunk); calls with the same slot are sequential. Everything delivered to consume()
+// before a cancellation is final: end() still runs and must keep it.
+template <class Record>
+class Sink {
+ public:
+  virtual ~Sink() = default;
+  // Before the first chunk, with the number of worker slots.
+  virtual void begin(int workerSlots) { (void)workerSlots; }
+  virtual void consume(int slot, const ChunkRecords<Record>& chunk) = 0;
+  // After the last chunk (also after a cancellation or time-budget stop).
+  virtual void end(const SchedulerResult& result) { (void)result; }
+};
+
+// What a kernel writes into: the current worker's chunk buffer.
+template <class Record>
+class Emitter {
+ public:
+  explicit Emitter(std::vector<Record>& buffer) : buffer_(buffer) {}
+  void emit(const Record& record) { buffer_.push_back(record); }
+  Record& emplace() { return buffer_.emplace_back(); }
+
+ private:
+  std::vector<Record>& buffer_;
+};
+
+// Runs kernel(index, emitter) for every index of the range (in chunks, on TBB workers) and
+// delivers each chunk's records to every sink. Kernel: void(uint64_t index, Emitter<Record>&).
+template <class Record, class Kernel>
+SchedulerResult runStream(IndexRange range, const SchedulerOptions& options, Kernel&& kernel,
+                          std::span<Sink<Record>* const> sinks) {
+  const int slots = workerSlotCount(options);
+  for (Sink<Record>* sink : sinks) sink->begin(slots);
+  std::vector<std::vector<Record>> buffers(slots);  // per-worker output buffers
+  SchedulerResult result = runChunks(range, options, [&](int slot, uint64_t chunkIndex, IndexRange indices) {
+    std::vector<Record>& buffer = buffers[slot];
+    buffer.clear();
+    Emitter<Record> emitter(buffer);
+    for (uint64_t i = indices.begin; i < indices.end; ++i) kernel(i, emitter);
+    const ChunkRecords<Record> chunk{chunkIndex, indices, std::span<const Record>(buffer)};
+    for (Sink<Record>* sink : sinks) sink->consume(slot, chunk);
+  });
+  for (Sink<Record>* sink : sinks) sink->end(result);
+  return result;
+}
+
+}  // namespace tex::runtime
