@@ -1,0 +1,287 @@
+// The prelude's builtins (docs/language.md section 6): typing, and their expansion into
+// core IR primitives. Composite builtins (mix, smoothstep, normalize, ...) are expanded here
+// so the IR, the interpreter and the compiler only know a small set of primitives.
+#include <cmath>
+#include <limits>
+#include <map>
+
+#include "lang/checker_builder.h"
+
+namespace tex::lang {
+
+using ir::Node;
+using ir::Prim;
+
+namespace {
+
+const std::map<std::string, Prim>& unaryFloatBuiltins() {
+  static const std::map<std::string, Prim> table = {
+      {"sign", Prim::FSign}, {"floor", Prim::FFloor}, {"ceil", Prim::FCeil}, {"trunc", Prim::FTrunc},
+      {"round", Prim::FRound}, {"sqrt", Prim::FSqrt}, {"exp", Prim::FExp}, {"exp2", Prim::FExp2},
+      {"log", Prim::FLog}, {"log2", Prim::FLog2}, {"sin", Prim::FSin}, {"cos", Prim::FCos},
+      {"tan", Prim::FTan}, {"asin", Prim::FAsin}, {"acos", Prim::FAcos}, {"atan", Prim::FAtan},
+      {"sinh", Prim::FSinh}, {"cosh", Prim::FCosh}, {"tanh", Prim::FTanh}};
+  return table;
+}
+
+const std::set<std::string>& otherBuiltins() {
+  static const std::set<std::string> names = {
+      "abs", "fract", "min", "max", "clamp", "pow", "atan2", "mod", "mix", "step", "smoothstep",
+      "dot", "length", "distance", "normalize", "cross", "float", "int", "is_nan", "is_inf",
+      "vec2", "vec3", "vec4", "rgb", "color", "luminance", "spectrum", "fold", "diffuse",
+      "emission", "mix_material"};
+  return names;
+}
+
+}  // namespace
+
+bool isBuiltinFunction(const std::string& name) {
+  return unaryFloatBuiltins().count(name) || otherBuiltins().count(name);
+}
+
+bool isBuiltinConstant(const std::string& name) {
+  return name == "pi" || name == "tau" || name == "inf" || name == "nan" || name == "lambda_nm";
+}
+
+Node* Builder::builtinConstant(const std::string& name, Span span) {
+  if (name == "pi") return constFloat(3.14159265358979323846f, span);
+  if (name == "tau") return constFloat(6.28318530717958647692f, span);
+  if (name == "inf") return constFloat(std::numeric_limits<float>::infinity(), span);
+  if (name == "nan") return constFloat(std::numeric_limits<float>::quiet_NaN(), span);
+  return prim(Prim::Wavelengths, types.spectrum(), {}, span);  // lambda_nm
+}
+
+Node* Builder::builtinCall(const std::string& name, std::vector<TypedArg> args, Span calleeSpan, Span callSpan) {
+  for (auto& a : args) {
+    if (a.node->type->isError()) return errorNode(callSpan);
+    if (!a.name.empty()) {
+      error("E0406", a.nameSpan, "builtin '" + name + "' takes no named arguments", "pass arguments by position");
+      return errorNode(callSpan);
+    }
+  }
+  auto noOverload = [&](const char* expected) {
+    std::string got;
+    for (auto& a : args) got += (got.empty() ? "" : ", ") + typeName(a.node->type);
+    error("E0410", calleeSpan, "no overload of '" + name + "' takes (" + got + ")", std::string("expected ") + expected);
+    return errorNode(callSpan);
+  };
+  auto arity = [&](size_t n) { return args.size() == n; };
+  auto kind = [&](size_t i) { return args[i].node->type->kind; };
+  auto isNumeric = [&](size_t i) { return kind(i) == TypeKind::Int || args[i].node->type->isFloatBased(); };
+  std::vector<std::pair<int, Node*>> lets;
+
+  if (auto it = unaryFloatBuiltins().find(name); it != unaryFloatBuiltins().end()) {
+    if (!arity(1) || !isNumeric(0)) return noOverload("one Float, vector, Color or Spectrum");
+    Node* x = toFloat(args[0].node, callSpan);
+    return prim(it->second, x->type, {x}, callSpan);
+  }
+  if (name == "abs") {
+    if (!arity(1) || !isNumeric(0)) return noOverload("one Int, Float, vector, Color or Spectrum");
+    Node* x = args[0].node;
+    return prim(kind(0) == TypeKind::Int ? Prim::IAbs : Prim::FAbs, x->type, {x}, callSpan);
+  }
+  if (name == "fract") {
+    if (!arity(1) || !isNumeric(0)) return noOverload("one Float, vector, Color or Spectrum");
+    Node* x = bindOnce(toFloat(args[0].node, callSpan), lets);
+    return wrapLets(lets, prim(Prim::FSub, x->type, {x, prim(Prim::FFloor, x->type, {x}, callSpan)}, callSpan));
+  }
+  if (name == "min" || name == "max" || name == "pow" || name == "atan2" || name == "mod") {
+    if (!arity(2) || !isNumeric(0) || !isNumeric(1)) return noOverload("two numeric arguments");
+    Node* x = args[0].node;
+    Node* y = args[1].node;
+    bool ints = kind(0) == TypeKind::Int && kind(1) == TypeKind::Int;
+    if (ints && (name == "min" || name == "max"))
+      return prim(name == "min" ? Prim::IMin : Prim::IMax, x->type, {x, y}, callSpan);
+    x = toFloat(x, callSpan);
+    y = toFloat(y, callSpan);
+    if (!unifyNumeric(*this, x, y, callSpan)) return noOverload("arguments of one type (or a scalar and a vector)");
+    if (name == "min") return prim(Prim::FMin, x->type, {x, y}, callSpan);
+    if (name == "max") return prim(Prim::FMax, x->type, {x, y}, callSpan);
+    if (name == "pow") return prim(Prim::FPow, x->type, {x, y}, callSpan);
+    if (name == "atan2") return prim(Prim::FAtan2, x->type, {x, y}, callSpan);
+    // mod(x, y) = x - y * floor(x / y)
+    x = bindOnce(x, lets);
+    y = bindOnce(y, lets);
+    const Type* t = x->type;
+    Node* q = prim(Prim::FFloor, t, {prim(Prim::FDiv, t, {x, y}, callSpan)}, callSpan);
+    return wrapLets(lets, prim(Prim::FSub, t, {x, prim(Prim::FMul, t, {y, q}, callSpan)}, callSpan));
+  }
+  if (name == "clamp") {
+    if (!arity(3) || !isNumeric(0) || !isNumeric(1) || !isNumeric(2)) return noOverload("(x, lo, hi)");
+    Node* x = args[0].node;
+    Node* lo = args[1].node;
+    Node* hi = args[2].node;
+    if (kind(0) == TypeKind::Int && kind(1) == TypeKind::Int && kind(2) == TypeKind::Int)
+      return prim(Prim::IMin, x->type, {prim(Prim::IMax, x->type, {x, lo}, callSpan), hi}, callSpan);
+    x = toFloat(x, callSpan);
+    if (!unifyNumeric(*this, x, lo, callSpan) || !unifyNumeric(*this, x, hi, callSpan) || lo->type != hi->type)
+      return noOverload("(x, lo, hi) of one type, or scalar bounds");
+    return prim(Prim::FMin, x->type, {prim(Prim::FMax, x->type, {x, lo}, callSpan), hi}, callSpan);
+  }
+  if (name == "mix") {
+    if (!arity(3) || !isNumeric(0) || !isNumeric(1) || !isNumeric(2)) return noOverload("(a, b, t)");
+    Node* a = toFloat(args[0].node, callSpan);
+    Node* b = toFloat(args[1].node, callSpan);
+    Node* t = toFloat(args[2].node, callSpan);
+    if (!unifyNumeric(*this, a, b, callSpan)) return noOverload("a and b of one type");
+    if (t->type != a->type) {
+      if (t->type->kind != TypeKind::Float) return noOverload("t a Float or of the type of a and b");
+      t = splatTo(t, a->type, callSpan);
+    }
+    const Type* ty = a->type;
+    a = bindOnce(a, lets);
+    // a + (b - a) * t
+    Node* d = prim(Prim::FSub, ty, {b, a}, callSpan);
+    return wrapLets(lets, prim(Prim::FAdd, ty, {a, prim(Prim::FMul, ty, {d, t}, callSpan)}, callSpan));
+  }
+  if (name == "step") {
+    if (!arity(2) || !isNumeric(0) || !isNumeric(1)) return noOverload("(edge, x)");
+    Node* edge = toFloat(args[0].node, callSpan);
+    Node* x = toFloat(args[1].node, callSpan);
+    if (!unifyNumeric(*this, edge, x, callSpan)) return noOverload("edge and x of one type, or a scalar edge");
+    return prim(Prim::FStep, x->type, {edge, x}, callSpan);
+  }
+  if (name == "smoothstep") {
+    if (!arity(3) || !isNumeric(0) || !isNumeric(1) || !isNumeric(2)) return noOverload("(e0, e1, x)");
+    Node* e0 = toFloat(args[0].node, callSpan);
+    Node* e1 = toFloat(args[1].node, callSpan);
+    Node* x = toFloat(args[2].node, callSpan);
+    if (!unifyNumeric(*this, x, e0, callSpan) || !unifyNumeric(*this, x, e1, callSpan) || e0->type != e1->type)
+      return noOverload("edges of the type of x, or scalar edges");
+    const Type* ty = x->type;
+    e0 = bindOnce(e0, lets);
+    // t = clamp((x - e0) / (e1 - e0), 0, 1); t * t * (3 - 2 t)
+    Node* ratio = prim(Prim::FDiv, ty, {prim(Prim::FSub, ty, {x, e0}, callSpan), prim(Prim::FSub, ty, {e1, e0}, callSpan)}, callSpan);
+    Node* t = prim(Prim::FMin, ty, {prim(Prim::FMax, ty, {ratio, splatTo(constFloat(0, callSpan), ty, callSpan)}, callSpan),
+                                    splatTo(constFloat(1, callSpan), ty, callSpan)}, callSpan);
+    t = bindOnce(t, lets);
+    Node* poly = prim(Prim::FSub, ty, {splatTo(constFloat(3, callSpan), ty, callSpan),
+                                       prim(Prim::FMul, ty, {splatTo(constFloat(2, callSpan), ty, callSpan), t}, callSpan)}, callSpan);
+    return wrapLets(lets, prim(Prim::FMul, ty, {prim(Prim::FMul, ty, {t, t}, callSpan), poly}, callSpan));
+  }
+  auto isVectorLike = [&](size_t i) { return args[i].node->type->isVector() || kind(i) == TypeKind::Color; };
+  if (name == "dot" || name == "distance") {
+    if (!arity(2) || !isVectorLike(0) || args[0].node->type != args[1].node->type) return noOverload("two vectors of one type");
+    Node* a = args[0].node;
+    Node* b = args[1].node;
+    if (name == "dot") return prim(Prim::Dot, types.floating(), {a, b}, callSpan);
+    Node* d = bindOnce(prim(Prim::FSub, a->type, {a, b}, callSpan), lets);
+    return wrapLets(lets, prim(Prim::FSqrt, types.floating(), {prim(Prim::Dot, types.floating(), {d, d}, callSpan)}, callSpan));
+  }
+  if (name == "length" || name == "normalize") {
+    if (!arity(1) || !isVectorLike(0)) return noOverload("a vector");
+    Node* v = bindOnce(args[0].node, lets);
+    Node* len = prim(Prim::FSqrt, types.floating(), {prim(Prim::Dot, types.floating(), {v, v}, callSpan)}, callSpan);
+    if (name == "length") return wrapLets(lets, len);
+    len = bindOnce(len, lets);
+    Node* positive = prim(Prim::FGt, types.boolean(), {len, constFloat(0, callSpan)}, callSpan);
+    Node* n = program.node(Node::Kind::If, v->type, callSpan);
+    n->args = {positive, prim(Prim::FDiv, v->type, {v, splatTo(len, v->type, callSpan)}, callSpan),
+               splatTo(constFloat(0, callSpan), v->type, callSpan)};
+    return wrapLets(lets, n);
+  }
+  if (name == "cross") {
+    const Type* v3 = types.vec(3);
+    if (!arity(2) || args[0].node->type != v3 || args[1].node->type != v3) return noOverload("two Vec3");
+    Node* a = bindOnce(args[0].node, lets);
+    Node* b = bindOnce(args[1].node, lets);
+    auto sw = [&](Node* v, uint8_t i, uint8_t j, uint8_t k) {
+      Node* s = prim(Prim::Swizzle, v3, {v}, callSpan);
+      s->lanes = {i, j, k};
+      return s;
+    };
+    // a.yzx * b.zxy - a.zxy * b.yzx
+    Node* l = prim(Prim::FMul, v3, {sw(a, 1, 2, 0), sw(b, 2, 0, 1)}, callSpan);
+    Node* r = prim(Prim::FMul, v3, {sw(a, 2, 0, 1), sw(b, 1, 2, 0)}, callSpan);
+    return wrapLets(lets, prim(Prim::FSub, v3, {l, r}, callSpan));
+  }
+  if (name == "float") {
+    if (!arity(1) || (kind(0) != TypeKind::Int && kind(0) != TypeKind::Float)) return noOverload("an Int or Float");
+    return toFloat(args[0].node, callSpan);
+  }
+  if (name == "int") {
+    if (!arity(1) || (kind(0) != TypeKind::Int && kind(0) != TypeKind::Float)) return noOverload("a Float or Int");
+    if (kind(0) == TypeKind::Int) return args[0].node;
+    return prim(Prim::FloatToInt, types.integer(), {args[0].node}, callSpan);
+  }
+  if (name == "is_nan" || name == "is_inf") {
+    if (!arity(1) || (kind(0) != TypeKind::Int && kind(0) != TypeKind::Float)) return noOverload("a Float");
+    return prim(name == "is_nan" ? Prim::FIsNan : Prim::FIsInf, types.boolean(), {toFloat(args[0].node, callSpan)}, callSpan);
+  }
+  if (name == "vec2" || name == "vec3" || name == "vec4" || name == "rgb") {
+    int lanes = name == "rgb" ? 3 : name[3] - '0';
+    const Type* target = name == "rgb" ? types.color() : types.vec(lanes);
+    if (arity(1) && (kind(0) == TypeKind::Int || kind(0) == TypeKind::Float))
+      return splatTo(args[0].node, target, callSpan);
+    int total = 0;
+    std::vector<Node*> parts;
+    for (size_t i = 0; i < args.size(); ++i) {
+      Node* part = toFloat(args[i].node, callSpan);
+      int n = part->type->fixedLanes();
+      if (n == 0 || (name == "rgb" && n != 1)) return noOverload(name == "rgb" ? "(r, g, b) or one Float" : "scalars and vectors whose sizes add up");
+      total += n;
+      parts.push_back(part);
+    }
+    if (total != lanes) return noOverload(name == "rgb" ? "(r, g, b) or one Float" : "scalars and vectors whose sizes add up");
+    return prim(Prim::Concat, target, parts, callSpan);
+  }
+  if (name == "color") {
+    if (!arity(1) || args[0].node->type != types.vec(3)) return noOverload("a Vec3");
+    return prim(Prim::Concat, types.color(), {args[0].node}, callSpan);
+  }
+  if (name == "luminance") {
+    if (!arity(1) || kind(0) != TypeKind::Color) return noOverload("a Color");
+    static const float weights[3] = {0.2126f, 0.7152f, 0.0722f};
+    return prim(Prim::Dot, types.floating(), {args[0].node, constLanes(types.color(), weights, callSpan)}, callSpan);
+  }
+  if (name == "spectrum") {
+    if (!arity(1) || (kind(0) != TypeKind::Int && kind(0) != TypeKind::Float)) return noOverload("a Float");
+    return splatTo(args[0].node, types.spectrum(), callSpan);
+  }
+  if (name == "diffuse" || name == "emission") {
+    if (!arity(1)) return noOverload("a Color or Spectrum");
+    Node* x = args[0].node;
+    if (kind(0) == TypeKind::Int || kind(0) == TypeKind::Float) x = splatTo(x, types.spectrum(), callSpan);
+    if (x->type->kind != TypeKind::Color && x->type->kind != TypeKind::Spectrum) return noOverload("a Color or Spectrum");
+    return prim(name == "diffuse" ? Prim::MatDiffuse : Prim::MatEmission, types.material(), {x}, callSpan);
+  }
+  if (name == "mix_material") {
+    if (!arity(3) || kind(0) != TypeKind::Material || kind(1) != TypeKind::Material ||
+        (kind(2) != TypeKind::Float && kind(2) != TypeKind::Int))
+      return noOverload("(Material, Material, Float)");
+    return prim(Prim::MatMix, types.material(), {args[0].node, args[1].node, toFloat(args[2].node, callSpan)}, callSpan);
+  }
+  if (name == "fold") {
+    if (!arity(3) || kind(0) != TypeKind::Int) return noOverload("(n: Int, init, f: (acc, Int) -> acc)");
+    Node* f = args[2].node;
+    if (!f->type->isCallable() || f->type->kind == TypeKind::BuiltinRef)
+      return noOverload("(n: Int, init, f) where f is a lambda or a named function");
+    Node* init = args[1].node;
+    int idx = instantiateCallable(f->type, {init->type, types.integer()}, args[2].span);
+    if (idx < 0) return errorNode(callSpan);
+    const Type* result = program.functions[idx].resultType;
+    if (result->isError()) return errorNode(callSpan);
+    if (result != init->type) {
+      // An Int accumulator whose step gives Float becomes a Float accumulator.
+      if (init->type->kind == TypeKind::Int && result->kind == TypeKind::Float) {
+        init = toFloat(init, args[1].span);
+        idx = instantiateCallable(f->type, {init->type, types.integer()}, args[2].span);
+        if (idx < 0) return errorNode(callSpan);
+        result = program.functions[idx].resultType;
+      }
+      if (result != init->type) {
+        if (!result->isError())
+          error("E0401", args[2].span, "fold's step returns " + typeName(result) + " but the accumulator is " + typeName(init->type));
+        return errorNode(callSpan);
+      }
+    }
+    Node* n = program.node(Node::Kind::Fold, init->type, callSpan);
+    n->callee = idx;
+    n->args = {args[0].node, init};
+    if (f->type->kind == TypeKind::Lambda) n->args.push_back(f);
+    return n;
+  }
+  return noOverload("a known builtin");
+}
+
+}  // namespace tex::lang

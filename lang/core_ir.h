@@ -1,0 +1,99 @@
+// The typed core IR: monomorphic, first-order, no lambdas left (they are lifted into
+// functions taking their captures as a record), no overloading (every operation is a
+// primitive on exact operand types), no implicit conversions. The interpreter evaluates it;
+// the compiler lowers it to LLVM.
+#pragma once
+#include <cstdint>
+#include <deque>
+#include <string>
+#include <vector>
+
+#include "lang/source.h"
+#include "lang/types.h"
+
+namespace tex::lang::ir {
+
+// Primitive operations. "Lane-wise" ops apply per float lane of a float-based type
+// (Float, Vec2-4, Color, Spectrum); all operands have the result's type unless noted.
+enum class Prim : uint8_t {
+  // lane-wise float arithmetic
+  FAdd, FSub, FMul, FDiv, FRem, FNeg, FMin, FMax, FAbs, FSign, FFloor, FCeil, FTrunc, FRound,
+  FSqrt, FExp, FExp2, FLog, FLog2, FSin, FCos, FTan, FAsin, FAcos, FAtan, FSinh, FCosh, FTanh,
+  FPow, FAtan2,
+  FStep,  // lane-wise: x < edge ? 0 : 1 (args: edge, x)
+  // float comparisons: Float operands, Bool result; FEq/FNe compare all lanes of any float type
+  FLt, FLe, FGt, FGe, FEq, FNe,
+  FIsNan, FIsInf,  // Float -> Bool
+  // Int
+  IAdd, ISub, IMul, IDiv, IRem, INeg, IAnd, IOr, IXor, IShl, IShr, INot, IMin, IMax, IAbs,
+  ILt, ILe, IGt, IGe, IEq, INe,
+  // Bool
+  BNot, BEq, BNe,
+  // conversions and shapes
+  IntToFloat,   // Int -> Float
+  FloatToInt,   // Float -> Int (truncate, NaN -> 0, saturate)
+  Splat,        // Float -> any float-based type (every lane)
+  Concat,       // float-based operands -> float-based result, lanes concatenated
+  Swizzle,      // float-based -> float-based; `lanes` holds the source lane indices
+  Dot,          // two equal float-based -> Float
+  Wavelengths,  // () -> Spectrum: the context's wavelengths in nm
+  // materials
+  MatDiffuse,   // Color|Spectrum -> Material
+  MatEmission,  // Color|Spectrum -> Material
+  MatMix,       // (Material, Material, Float) -> Material
+};
+const char* primName(Prim p);
+
+struct Node {
+  enum class Kind : uint8_t {
+    Const,      // constant: type + value fields
+    Local,      // slot
+    Let,        // slot = args[0]; value of args[1]
+    If,         // args[0] ? args[1] : args[2]
+    And, Or,    // short-circuit Bool
+    Prim,       // prim(args...)
+    Call,       // functions[callee](args...)
+    MakeRecord, // fields in the record type's (sorted) order; also builds lambda captures
+    GetField,   // args[0].fields[index]
+    Fold,       // acc = args[1]; for i in [0, args[0]): acc = functions[callee](args[2], acc, i)
+  } kind;
+  const Type* type = nullptr;
+  Prim prim = Prim::FAdd;
+  int slot = -1;
+  int callee = -1;
+  int index = -1;
+  std::vector<uint8_t> lanes;  // Swizzle source lanes
+  // Const payload
+  float floatValue[8] = {};
+  int32_t intValue = 0;
+  bool boolValue = false;
+  std::vector<Node*> args;
+  Span span;
+};
+
+struct Function {
+  std::string name;  // for messages and dumps, e.g. "noise.fbm<Int, <lambda>, Vec3>"
+  std::vector<const Type*> paramTypes;
+  const Type* resultType = nullptr;
+  Node* body = nullptr;
+  int numSlots = 0;  // params occupy slots [0, paramTypes.size())
+  Span span;
+};
+
+// A whole program: functions reference each other by index.
+struct Program {
+  std::deque<Node> nodes;
+  std::vector<Function> functions;
+
+  Node* node(Node::Kind kind, const Type* type, Span span) {
+    Node& n = nodes.emplace_back();
+    n.kind = kind;
+    n.type = type;
+    n.span = span;
+    return &n;
+  }
+};
+
+std::string dump(const Program& program, int function);
+
+}  // namespace tex::lang::ir

@@ -1,0 +1,303 @@
+#include "lang/interpreter.h"
+
+#include <cmath>
+#include <limits>
+
+namespace tex::lang {
+
+using ir::Node;
+using ir::Prim;
+
+namespace {
+
+int32_t wrapAdd(int32_t a, int32_t b) { return int32_t(uint32_t(a) + uint32_t(b)); }
+int32_t wrapSub(int32_t a, int32_t b) { return int32_t(uint32_t(a) - uint32_t(b)); }
+int32_t wrapMul(int32_t a, int32_t b) { return int32_t(uint32_t(a) * uint32_t(b)); }
+
+int32_t intDiv(int32_t a, int32_t b) {
+  if (b == 0) return 0;
+  if (a == std::numeric_limits<int32_t>::min() && b == -1) return a;
+  return a / b;
+}
+int32_t intRem(int32_t a, int32_t b) {
+  if (b == 0 || b == -1) return 0;
+  return a % b;
+}
+
+int32_t floatToInt(float x) {
+  if (std::isnan(x)) return 0;
+  if (x >= 2147483648.0f) return std::numeric_limits<int32_t>::max();
+  if (x <= -2147483648.0f) return std::numeric_limits<int32_t>::min();
+  return int32_t(x);
+}
+
+float fsign(float x) { return x > 0 ? 1.0f : x < 0 ? -1.0f : x; }
+
+class Interpreter {
+ public:
+  Interpreter(const ir::Program& p, const WavelengthGroup& g) : program_(p), group_(g) {}
+
+  Value call(int function, std::vector<Value> args) {
+    const ir::Function& fn = program_.functions[size_t(function)];
+    args.resize(size_t(std::max<int>(fn.numSlots, int(args.size()))));
+    return eval(fn.body, args);
+  }
+
+ private:
+  int lanes(const Type* t) const { return lanesOf(t, group_); }
+
+  Value eval(const Node* n, std::vector<Value>& slots) {
+    switch (n->kind) {
+      case Node::Kind::Const: {
+        Value v;
+        for (int i = 0; i < kMaxLanes; ++i) v.f[i] = n->floatValue[i];
+        v.i = n->type->kind == TypeKind::Bool ? (n->boolValue ? 1 : 0) : n->intValue;
+        return v;
+      }
+      case Node::Kind::Local: return slots[size_t(n->slot)];
+      case Node::Kind::Let:
+        slots[size_t(n->slot)] = eval(n->args[0], slots);
+        return eval(n->args[1], slots);
+      case Node::Kind::If: return eval(n->args[0], slots).i ? eval(n->args[1], slots) : eval(n->args[2], slots);
+      case Node::Kind::And: return Value::ofBool(eval(n->args[0], slots).i && eval(n->args[1], slots).i);
+      case Node::Kind::Or: return Value::ofBool(eval(n->args[0], slots).i || eval(n->args[1], slots).i);
+      case Node::Kind::Prim: return evalPrim(n, slots);
+      case Node::Kind::Call: {
+        std::vector<Value> args;
+        args.reserve(n->args.size());
+        for (const Node* a : n->args) args.push_back(eval(a, slots));
+        return call(n->callee, std::move(args));
+      }
+      case Node::Kind::MakeRecord: {
+        auto fields = std::make_shared<std::vector<Value>>();
+        fields->reserve(n->args.size());
+        for (const Node* a : n->args) fields->push_back(eval(a, slots));
+        Value v;
+        v.fields = std::move(fields);
+        return v;
+      }
+      case Node::Kind::GetField: {
+        Value base = eval(n->args[0], slots);
+        return (*base.fields)[size_t(n->index)];
+      }
+      case Node::Kind::Fold: {
+        int32_t count = eval(n->args[0], slots).i;
+        Value acc = eval(n->args[1], slots);
+        bool hasClosure = n->args.size() > 2;
+        Value closure = hasClosure ? eval(n->args[2], slots) : Value{};
+        for (int32_t i = 0; i < count; ++i) {
+          std::vector<Value> args;
+          if (hasClosure) args.push_back(closure);
+          args.push_back(std::move(acc));
+          args.push_back(Value::ofInt(i));
+          acc = call(n->callee, std::move(args));
+        }
+        return acc;
+      }
+    }
+    return {};
+  }
+
+  template <typename F>
+  Value mapLanes(const Node* n, std::vector<Value>& slots, F f) {
+    Value x = eval(n->args[0], slots);
+    Value r;
+    int k = lanes(n->type);
+    for (int i = 0; i < k; ++i) r.f[i] = f(x.f[i]);
+    return r;
+  }
+  template <typename F>
+  Value zipLanes(const Node* n, std::vector<Value>& slots, F f) {
+    Value x = eval(n->args[0], slots);
+    Value y = eval(n->args[1], slots);
+    Value r;
+    int k = lanes(n->type);
+    for (int i = 0; i < k; ++i) r.f[i] = f(x.f[i], y.f[i]);
+    return r;
+  }
+  template <typename F>
+  Value ints(const Node* n, std::vector<Value>& slots, F f) {
+    int32_t x = eval(n->args[0], slots).i;
+    int32_t y = n->args.size() > 1 ? eval(n->args[1], slots).i : 0;
+    return Value::ofInt(f(x, y));
+  }
+  template <typename F>
+  Value compareFloats(const Node* n, std::vector<Value>& slots, F f) {
+    Value x = eval(n->args[0], slots);
+    Value y = eval(n->args[1], slots);
+    return Value::ofBool(f(x.f[0], y.f[0]));
+  }
+
+  Value evalPrim(const Node* n, std::vector<Value>& slots) {
+    switch (n->prim) {
+      case Prim::FAdd: return zipLanes(n, slots, [](float a, float b) { return a + b; });
+      case Prim::FSub: return zipLanes(n, slots, [](float a, float b) { return a - b; });
+      case Prim::FMul: return zipLanes(n, slots, [](float a, float b) { return a * b; });
+      case Prim::FDiv: return zipLanes(n, slots, [](float a, float b) { return a / b; });
+      case Prim::FRem: return zipLanes(n, slots, [](float a, float b) { return std::fmod(a, b); });
+      case Prim::FMin: return zipLanes(n, slots, [](float a, float b) { return std::fmin(a, b); });
+      case Prim::FMax: return zipLanes(n, slots, [](float a, float b) { return std::fmax(a, b); });
+      case Prim::FPow: return zipLanes(n, slots, [](float a, float b) { return std::pow(a, b); });
+      case Prim::FAtan2: return zipLanes(n, slots, [](float a, float b) { return std::atan2(a, b); });
+      case Prim::FStep: return zipLanes(n, slots, [](float edge, float x) { return x < edge ? 0.0f : 1.0f; });
+      case Prim::FNeg: return mapLanes(n, slots, [](float a) { return -a; });
+      case Prim::FAbs: return mapLanes(n, slots, [](float a) { return std::fabs(a); });
+      case Prim::FSign: return mapLanes(n, slots, fsign);
+      case Prim::FFloor: return mapLanes(n, slots, [](float a) { return std::floor(a); });
+      case Prim::FCeil: return mapLanes(n, slots, [](float a) { return std::ceil(a); });
+      case Prim::FTrunc: return mapLanes(n, slots, [](float a) { return std::trunc(a); });
+      case Prim::FRound: return mapLanes(n, slots, [](float a) { return std::round(a); });
+      case Prim::FSqrt: return mapLanes(n, slots, [](float a) { return std::sqrt(a); });
+      case Prim::FExp: return mapLanes(n, slots, [](float a) { return std::exp(a); });
+      case Prim::FExp2: return mapLanes(n, slots, [](float a) { return std::exp2(a); });
+      case Prim::FLog: return mapLanes(n, slots, [](float a) { return std::log(a); });
+      case Prim::FLog2: return mapLanes(n, slots, [](float a) { return std::log2(a); });
+      case Prim::FSin: return mapLanes(n, slots, [](float a) { return std::sin(a); });
+      case Prim::FCos: return mapLanes(n, slots, [](float a) { return std::cos(a); });
+      case Prim::FTan: return mapLanes(n, slots, [](float a) { return std::tan(a); });
+      case Prim::FAsin: return mapLanes(n, slots, [](float a) { return std::asin(a); });
+      case Prim::FAcos: return mapLanes(n, slots, [](float a) { return std::acos(a); });
+      case Prim::FAtan: return mapLanes(n, slots, [](float a) { return std::atan(a); });
+      case Prim::FSinh: return mapLanes(n, slots, [](float a) { return std::sinh(a); });
+      case Prim::FCosh: return mapLanes(n, slots, [](float a) { return std::cosh(a); });
+      case Prim::FTanh: return mapLanes(n, slots, [](float a) { return std::tanh(a); });
+      case Prim::FLt: return compareFloats(n, slots, [](float a, float b) { return a < b; });
+      case Prim::FLe: return compareFloats(n, slots, [](float a, float b) { return a <= b; });
+      case Prim::FGt: return compareFloats(n, slots, [](float a, float b) { return a > b; });
+      case Prim::FGe: return compareFloats(n, slots, [](float a, float b) { return a >= b; });
+      case Prim::FEq:
+      case Prim::FNe: {
+        Value x = eval(n->args[0], slots);
+        Value y = eval(n->args[1], slots);
+        bool equal = true;
+        int k = lanes(n->args[0]->type);
+        for (int i = 0; i < k; ++i) equal = equal && x.f[i] == y.f[i];
+        return Value::ofBool(n->prim == Prim::FEq ? equal : !equal);
+      }
+      case Prim::FIsNan: return Value::ofBool(std::isnan(eval(n->args[0], slots).f[0]));
+      case Prim::FIsInf: return Value::ofBool(std::isinf(eval(n->args[0], slots).f[0]));
+      case Prim::IAdd: return ints(n, slots, wrapAdd);
+      case Prim::ISub: return ints(n, slots, wrapSub);
+      case Prim::IMul: return ints(n, slots, wrapMul);
+      case Prim::IDiv: return ints(n, slots, intDiv);
+      case Prim::IRem: return ints(n, slots, intRem);
+      case Prim::INeg: return ints(n, slots, [](int32_t a, int32_t) { return wrapSub(0, a); });
+      case Prim::IAnd: return ints(n, slots, [](int32_t a, int32_t b) { return a & b; });
+      case Prim::IOr: return ints(n, slots, [](int32_t a, int32_t b) { return a | b; });
+      case Prim::IXor: return ints(n, slots, [](int32_t a, int32_t b) { return a ^ b; });
+      case Prim::IShl: return ints(n, slots, [](int32_t a, int32_t b) { return int32_t(uint32_t(a) << (b & 31)); });
+      case Prim::IShr: return ints(n, slots, [](int32_t a, int32_t b) { return a >> (b & 31); });
+      case Prim::INot: return ints(n, slots, [](int32_t a, int32_t) { return ~a; });
+      case Prim::IMin: return ints(n, slots, [](int32_t a, int32_t b) { return a < b ? a : b; });
+      case Prim::IMax: return ints(n, slots, [](int32_t a, int32_t b) { return a > b ? a : b; });
+      case Prim::IAbs: return ints(n, slots, [](int32_t a, int32_t) { return a < 0 ? wrapSub(0, a) : a; });
+      case Prim::ILt: return ints(n, slots, [](int32_t a, int32_t b) { return int32_t(a < b); });
+      case Prim::ILe: return ints(n, slots, [](int32_t a, int32_t b) { return int32_t(a <= b); });
+      case Prim::IGt: return ints(n, slots, [](int32_t a, int32_t b) { return int32_t(a > b); });
+      case Prim::IGe: return ints(n, slots, [](int32_t a, int32_t b) { return int32_t(a >= b); });
+      case Prim::IEq: return ints(n, slots, [](int32_t a, int32_t b) { return int32_t(a == b); });
+      case Prim::INe: return ints(n, slots, [](int32_t a, int32_t b) { return int32_t(a != b); });
+      case Prim::BNot: return Value::ofBool(!eval(n->args[0], slots).i);
+      case Prim::BEq: return Value::ofBool(eval(n->args[0], slots).i == eval(n->args[1], slots).i);
+      case Prim::BNe: return Value::ofBool(eval(n->args[0], slots).i != eval(n->args[1], slots).i);
+      case Prim::IntToFloat: return Value::ofFloat(float(eval(n->args[0], slots).i));
+      case Prim::FloatToInt: return Value::ofInt(floatToInt(eval(n->args[0], slots).f[0]));
+      case Prim::Splat: {
+        float x = eval(n->args[0], slots).f[0];
+        Value r;
+        for (int i = 0; i < lanes(n->type); ++i) r.f[i] = x;
+        return r;
+      }
+      case Prim::Concat: {
+        Value r;
+        int at = 0;
+        for (const Node* a : n->args) {
+          Value x = eval(a, slots);
+          int k = lanes(a->type);
+          for (int i = 0; i < k && at < kMaxLanes; ++i) r.f[at++] = x.f[i];
+        }
+        return r;
+      }
+      case Prim::Swizzle: {
+        Value x = eval(n->args[0], slots);
+        Value r;
+        for (size_t i = 0; i < n->lanes.size(); ++i) r.f[i] = x.f[n->lanes[i]];
+        return r;
+      }
+      case Prim::Dot: {
+        Value x = eval(n->args[0], slots);
+        Value y = eval(n->args[1], slots);
+        float sum = 0;
+        int k = lanes(n->args[0]->type);
+        for (int i = 0; i < k; ++i) sum = (i == 0) ? x.f[0] * y.f[0] : sum + x.f[i] * y.f[i];
+        return Value::ofFloat(sum);
+      }
+      case Prim::Wavelengths: {
+        Value r;
+        for (int i = 0; i < group_.count; ++i) r.f[i] = group_.lambdaNm[i];
+        return r;
+      }
+      case Prim::MatDiffuse:
+      case Prim::MatEmission: {
+        auto m = std::make_shared<MaterialNode>();
+        m->kind = n->prim == Prim::MatDiffuse ? MaterialNode::Kind::Diffuse : MaterialNode::Kind::Emission;
+        m->paramType = n->args[0]->type;
+        m->param = eval(n->args[0], slots);
+        Value v;
+        v.material = std::move(m);
+        return v;
+      }
+      case Prim::MatMix: {
+        auto m = std::make_shared<MaterialNode>();
+        m->kind = MaterialNode::Kind::Mix;
+        m->a = eval(n->args[0], slots).material;
+        m->b = eval(n->args[1], slots).material;
+        m->weight = eval(n->args[2], slots).f[0];
+        Value v;
+        v.material = std::move(m);
+        return v;
+      }
+    }
+    return {};
+  }
+
+  const ir::Program& program_;
+  const WavelengthGroup& group_;
+};
+
+}  // namespace
+
+Value evaluate(const ir::Program& program, int function, const std::vector<Value>& args, const WavelengthGroup& group) {
+  return Interpreter(program, group).call(function, args);
+}
+
+static Value floats(std::initializer_list<float> xs) {
+  Value v;
+  int i = 0;
+  for (float x : xs) v.f[i++] = x;
+  return v;
+}
+
+Value makeHit(const float p[3], const float n[3], const float uv[2], float du, float dv) {
+  // Fields in sorted order: dpdx, dpdy, duvdx, duvdy, n, p, uv.
+  auto fields = std::make_shared<std::vector<Value>>();
+  fields->push_back(floats({du, 0, 0}));
+  fields->push_back(floats({0, dv, 0}));
+  fields->push_back(floats({du, 0}));
+  fields->push_back(floats({0, dv}));
+  fields->push_back(floats({n[0], n[1], n[2]}));
+  fields->push_back(floats({p[0], p[1], p[2]}));
+  fields->push_back(floats({uv[0], uv[1]}));
+  Value v;
+  v.fields = std::move(fields);
+  return v;
+}
+
+Value makeHit(float u, float v, float du, float dv) {
+  const float p[3] = {u, v, 0};
+  const float n[3] = {0, 0, 1};
+  const float uv[2] = {u, v};
+  return makeHit(p, n, uv, du, dv);
+}
+
+}  // namespace tex::lang

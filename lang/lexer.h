@@ -1,0 +1,16 @@
+// The lexer: UTF-8 validation, comments, literals, operators (docs/language.md section 1).
+#pragma once
+#include <vector>
+
+#include "lang/source.h"
+#include "lang/token.h"
+
+namespace tex::lang {
+
+// Tokenises a whole file. Lexical errors are reported to `diags` and the offending bytes are
+// skipped, so the parser still sees the rest. The last token is always Tok::End.
+std::vector<Token> lex(const SourceFile& file, Diagnostics& diags);
+
+constexpr size_t kMaxSourceBytes = size_t(64) << 20;
+
+}  // namespace tex::lang

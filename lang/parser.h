@@ -1,0 +1,19 @@
+// The parser: tokens to a syntax tree with spans, recovering at item boundaries so that one
+// run reports every syntax error (docs/language.md section 2).
+#pragma once
+#include <memory>
+
+#include "lang/ast.h"
+
+namespace tex::lang {
+
+constexpr int kMaxNestingDepth = 256;
+
+// Lexes and parses a whole file. Always returns a module (possibly partial); errors go to diags.
+std::unique_ptr<Module> parseModule(std::shared_ptr<SourceFile> file, Diagnostics& diags);
+
+// Parses one REPL input: either items/imports, or a single expression. Sets `expr` for an
+// expression input; otherwise adds the items and imports to the returned module.
+std::unique_ptr<Module> parseReplInput(std::shared_ptr<SourceFile> file, Diagnostics& diags, Expr*& expr);
+
+}  // namespace tex::lang

@@ -1,0 +1,68 @@
+#include "lang/value.h"
+
+#include <charconv>
+#include <cmath>
+
+namespace tex::lang {
+
+int lanesOf(const Type* t, const WavelengthGroup& group) {
+  return t->kind == TypeKind::Spectrum ? group.count : t->fixedLanes();
+}
+
+std::string formatFloat(float x) {
+  if (std::isnan(x)) return "nan";
+  if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
+  char buf[64];
+  auto result = std::to_chars(buf, buf + sizeof buf, x);
+  std::string s(buf, result.ptr);
+  if (s.find_first_of(".e") == std::string::npos) s += ".0";
+  return s;
+}
+
+static std::string lanes(const char* prefix, const Value& v, int n) {
+  std::string s = std::string(prefix) + "(";
+  for (int i = 0; i < n; ++i) s += (i ? ", " : "") + formatFloat(v.f[i]);
+  return s + ")";
+}
+
+static std::string formatMaterial(const MaterialNode* m, const WavelengthGroup& group) {
+  if (!m) return "<material>";
+  switch (m->kind) {
+    case MaterialNode::Kind::Diffuse: return "diffuse(" + formatValue(m->param, m->paramType, group) + ")";
+    case MaterialNode::Kind::Emission: return "emission(" + formatValue(m->param, m->paramType, group) + ")";
+    case MaterialNode::Kind::Mix:
+      return "mix_material(" + formatMaterial(m->a.get(), group) + ", " + formatMaterial(m->b.get(), group) + ", " +
+             formatFloat(m->weight) + ")";
+  }
+  return "<material>";
+}
+
+std::string formatValue(const Value& v, const Type* t, const WavelengthGroup& group) {
+  switch (t->kind) {
+    case TypeKind::Bool: return v.i ? "true" : "false";
+    case TypeKind::Int: return std::to_string(v.i);
+    case TypeKind::Float: return formatFloat(v.f[0]);
+    case TypeKind::Vec2: return lanes("vec2", v, 2);
+    case TypeKind::Vec3: return lanes("vec3", v, 3);
+    case TypeKind::Vec4: return lanes("vec4", v, 4);
+    case TypeKind::Color: return lanes("rgb", v, 3);
+    case TypeKind::Spectrum: return lanes("spectrum", v, group.count);
+    case TypeKind::Material: return formatMaterial(v.material.get(), group);
+    case TypeKind::Record: {
+      std::string s = "{";
+      for (size_t i = 0; i < t->fields.size(); ++i) {
+        s += (i ? ", " : "") + t->fields[i].first + ": ";
+        s += v.fields && i < v.fields->size() ? formatValue((*v.fields)[i], t->fields[i].second, group) : "?";
+      }
+      return s + "}";
+    }
+    case TypeKind::FuncRef:
+    case TypeKind::BuiltinRef:
+    case TypeKind::Lambda:
+    case TypeKind::Function: return "<function>";
+    case TypeKind::Error: return "<error>";
+  }
+  return "?";
+}
+
+}  // namespace tex::lang

@@ -1,0 +1,47 @@
+// Runtime values of the reference interpreter, and their canonical printing
+// (docs/language.md section 8).
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "lang/types.h"
+
+namespace tex::lang {
+
+constexpr int kMaxLanes = 8;  // the largest wavelength group
+
+struct MaterialNode;
+
+struct Value {
+  float f[kMaxLanes] = {};  // float lanes of Float, Vec2-4, Color, Spectrum
+  int32_t i = 0;            // Int; Bool is i != 0
+  std::shared_ptr<const std::vector<Value>> fields;    // records and lambda captures
+  std::shared_ptr<const MaterialNode> material;        // Material
+
+  static Value ofFloat(float x) { Value v; v.f[0] = x; return v; }
+  static Value ofInt(int32_t x) { Value v; v.i = x; return v; }
+  static Value ofBool(bool x) { Value v; v.i = x ? 1 : 0; return v; }
+};
+
+// A closure tree: the renderer issues grow the set of lobes.
+struct MaterialNode {
+  enum class Kind { Diffuse, Emission, Mix } kind = Kind::Diffuse;
+  const Type* paramType = nullptr;  // Color or Spectrum (Diffuse, Emission)
+  Value param;                      // albedo or radiance
+  std::shared_ptr<const MaterialNode> a, b;  // Mix
+  float weight = 0;                          // Mix: weight of b
+};
+
+// The wavelengths at which Spectrum values are evaluated.
+struct WavelengthGroup {
+  int count = 4;
+  float lambdaNm[kMaxLanes] = {400, 500, 600, 700};
+};
+
+int lanesOf(const Type* t, const WavelengthGroup& group);
+std::string formatFloat(float x);
+std::string formatValue(const Value& v, const Type* t, const WavelengthGroup& group);
+
+}  // namespace tex::lang
