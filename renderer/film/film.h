@@ -1,0 +1,84 @@
+// The film: accumulates sample records into pixels at one resolution with one filter, and
+// develops them into an image. Accumulation is in 64-bit fixed point (2^-24 units), so it is
+// exact integer addition: the result does not depend on the order records arrive in, on the
+// thread count, or on how the index range was split (films merge by adding integers).
+//
+// Per pixel it keeps, with a = filter(x - centre) * record weight and c the record's colour
+// (linear sRGB, or grey for scalar records): sum a, sum a^2, sum a c, sum a c^2 per colour
+// channel, and sum a s_b per spectral bin. Developing gives
+//   colour    = sum a c / sum a                          (the weighted estimator), or
+//             = sum a c * (W H / N)                      (the density estimator, N samples),
+//   variance  = (sum a c^2 / sum a - colour^2) / (n_eff - 1),  n_eff = (sum a)^2 / sum a^2,
+// an estimate of the variance of the pixel value (it treats samples as independent, so it
+// overestimates the error of QMC samples).
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "renderer/film/filters.h"
+#include "renderer/film/sample_record.h"
+#include "renderer/image/image_io.h"
+
+namespace tex {
+
+enum class FilmEstimator { Weighted, Density };
+
+struct FilmSettings {
+  int width = 0, height = 0;
+  FilterKind filter = FilterKind::Box;
+  ValueKind valueKind = ValueKind::SpectralRadianceOverPdf;
+  int spectralBins = 0;  // 0: none; else equal-width bins over 360..830 nm (spectral records only)
+};
+
+// The developed image: linear sRGB, its variance, optional spectral bins (all top row first).
+struct DevelopedImage {
+  int width = 0, height = 0;
+  std::vector<float> rgb;       // 3 per pixel
+  std::vector<float> variance;  // 3 per pixel: variance of the pixel estimate
+  std::vector<float> weightSum; // 1 per pixel: sum of filter weights (0: no sample reached it)
+  int spectralBins = 0;
+  std::vector<float> spectral;  // spectralBins per pixel: mean radiance over each bin
+  float binMinNm = 360, binWidthNm = 0;
+
+  RgbImage rgbImage() const { return {width, height, rgb}; }
+  // EXR channels R, G, B [, variance.R/G/B] [, spectral.<centre>nm ...] with metadata.
+  ExrImage toExr(bool withVariance, bool withSpectral, const std::map<std::string, std::string>& metadata) const;
+  // Mean over channels of variance / colour^2, box-downsampled to at most maxSize pixels on
+  // the longer side (the relative-variance thumbnail).
+  std::vector<float> relativeVarianceThumbnail(int maxSize, int& thumbWidth, int& thumbHeight) const;
+};
+
+class FilmAccumulator {
+ public:
+  explicit FilmAccumulator(const FilmSettings& settings);
+
+  const FilmSettings& settings() const { return settings_; }
+  void add(const SampleRecord& record);
+  void add(const SampleRecord* records, size_t count);
+  // Adds another film's sums (same settings). Exact and order-independent.
+  std::string merge(const FilmAccumulator& other);
+  void clear();
+
+  // samples: the number of sample indices behind the records (for the density estimator).
+  DevelopedImage develop(FilmEstimator estimator = FilmEstimator::Weighted, uint64_t samples = 0) const;
+
+  // The raw fixed-point sums (for bit-identity tests).
+  const std::vector<int64_t>& sums() const { return sums_; }
+  int sumsPerPixel() const { return stride_; }
+
+ private:
+  struct Colour {
+    float c[3];
+  };
+  Colour colourOf(const SampleRecord& r) const;
+  void splat(int px, int py, float a, const Colour& colour, const float* bins);
+
+  FilmSettings settings_;
+  Filter filter_;
+  int stride_;  // int64 sums per pixel: 2 + 3 + 3 + bins
+  std::vector<int64_t> sums_;
+  std::vector<float> binScratch_;
+};
+
+}  // namespace tex

@@ -1,0 +1,34 @@
+// Reconstruction filters, separable: k(dx, dy) = k1(dx) k1(dy), with dx, dy in pixels from
+// the pixel centre. Each 1-D profile is normalised to unit integral, so the filter
+// integrates to 1 over the plane (in pixel units).
+#pragma once
+#include <optional>
+#include <string>
+
+namespace tex {
+
+enum class FilterKind { Box, Tent, Gaussian, Mitchell };
+
+class Filter {
+ public:
+  // Box: radius 0.5; tent: radius 1; Gaussian: sigma 0.5, radius 1.5, shifted to reach 0 at
+  // the radius; Mitchell-Netravali: B = C = 1/3, radius 2 (has negative lobes).
+  explicit Filter(FilterKind kind);
+
+  FilterKind kind() const { return kind_; }
+  float radiusPixels() const { return radius_; }
+  // The normalised 1-D profile at offset dx (pixels).
+  float evaluate1d(float dx) const;
+  float evaluate(float dx, float dy) const { return evaluate1d(dx) * evaluate1d(dy); }
+
+ private:
+  float raw(float dx) const;
+  FilterKind kind_;
+  float radius_;
+  float normalisation_ = 1;
+};
+
+const char* filterName(FilterKind kind);
+std::optional<FilterKind> parseFilterKind(const std::string& name);
+
+}  // namespace tex

@@ -1,0 +1,101 @@
+#include "renderer/image/compare.h"
+
+#include <cmath>
+#include <cstdio>
+
+namespace tex {
+
+namespace {
+const char* kRgb[3] = {"R", "G", "B"};
+
+std::string jsonString(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') out += '\\', out += c;
+    else if (static_cast<unsigned char>(c) < 0x20) {
+      char buffer[8];
+      std::snprintf(buffer, sizeof buffer, "\\u%04x", c);
+      out += buffer;
+    } else out += c;
+  }
+  return out + "\"";
+}
+
+std::string jsonNumber(double x) {
+  if (!std::isfinite(x)) return "null";
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.9g", x);
+  return buffer;
+}
+}  // namespace
+
+std::string compareImages(const ExrImage& a, const ExrImage& b, ImageComparison& out) {
+  out = ImageComparison{};
+  if (a.width != b.width || a.height != b.height) {
+    return "images differ in size: " + std::to_string(a.width) + "x" + std::to_string(a.height) + " vs " +
+           std::to_string(b.width) + "x" + std::to_string(b.height);
+  }
+  const ExrChannel* ca[3];
+  const ExrChannel* cb[3];
+  const ExrChannel* va[3];
+  const ExrChannel* vb[3];
+  for (int k = 0; k < 3; ++k) {
+    ca[k] = a.find(kRgb[k]);
+    cb[k] = b.find(kRgb[k]);
+    if (ca[k] == nullptr) ca[k] = a.find("Y");
+    if (cb[k] == nullptr) cb[k] = b.find("Y");
+    if (ca[k] == nullptr || cb[k] == nullptr) return std::string("image without channel ") + kRgb[k];
+    va[k] = a.find(std::string("variance.") + kRgb[k]);
+    vb[k] = b.find(std::string("variance.") + kRgb[k]);
+  }
+  out.width = a.width;
+  out.height = a.height;
+  const size_t pixels = size_t(a.width) * a.height;
+  double sum = 0, relative = 0, zSquares = 0;
+  uint64_t outliers = 0;
+  for (int k = 0; k < 3; ++k) {
+    double channelSum = 0;
+    for (size_t p = 0; p < pixels; ++p) {
+      const double x = ca[k]->values[p], y = cb[k]->values[p];
+      const double d = x - y;
+      channelSum += d * d;
+      relative += d * d / (y * y + 0.01);
+      if (std::fabs(d) > out.maxAbsDifference || std::isnan(d)) out.maxAbsDifference = std::fabs(d);
+      const double variance = (va[k] ? va[k]->values[p] : 0.0) + (vb[k] ? vb[k]->values[p] : 0.0);
+      if (variance > 0) {
+        const double z = d / std::sqrt(variance);
+        zSquares += z * z;
+        outliers += std::fabs(z) > 3.0;
+        out.zCount++;
+      }
+    }
+    out.rmseChannel[k] = pixels > 0 ? std::sqrt(channelSum / pixels) : 0.0;
+    sum += channelSum;
+  }
+  const double n = double(pixels) * 3;
+  out.rmse = n > 0 ? std::sqrt(sum / n) : 0.0;
+  out.relativeMse = n > 0 ? relative / n : 0.0;
+  out.zTested = out.zCount > 0;
+  if (out.zTested) {
+    out.zMeanSquare = zSquares / double(out.zCount);
+    out.zOutlierFraction = double(outliers) / double(out.zCount);
+    out.zPass = out.zOutlierFraction <= 0.01;
+  }
+  return "";
+}
+
+std::string comparisonToJson(const ImageComparison& c, const std::string& pathA, const std::string& pathB) {
+  std::string j = "{\"a\": " + jsonString(pathA) + ", \"b\": " + jsonString(pathB) +
+                  ", \"width\": " + std::to_string(c.width) + ", \"height\": " + std::to_string(c.height) +
+                  ", \"rmse\": " + jsonNumber(c.rmse) + ", \"rmse_r\": " + jsonNumber(c.rmseChannel[0]) +
+                  ", \"rmse_g\": " + jsonNumber(c.rmseChannel[1]) + ", \"rmse_b\": " + jsonNumber(c.rmseChannel[2]) +
+                  ", \"relative_mse\": " + jsonNumber(c.relativeMse) +
+                  ", \"max_abs_difference\": " + jsonNumber(c.maxAbsDifference);
+  if (c.zTested) {
+    j += ", \"ztest\": {\"count\": " + std::to_string(c.zCount) + ", \"mean_square\": " + jsonNumber(c.zMeanSquare) +
+         ", \"outlier_fraction\": " + jsonNumber(c.zOutlierFraction) + ", \"pass\": " + (c.zPass ? "true" : "false") + "}";
+  }
+  return j + "}";
+}
+
+}  // namespace tex
