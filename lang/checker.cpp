@@ -95,9 +95,23 @@ const LocalVar* Builder::findLocal(const std::string& name) const {
   return nullptr;
 }
 
+// A value of `actual` type fits where `target` is declared without conversion: equal types,
+// or callables where function types are declared (also inside records).
+static bool fitsWithoutConversion(const Type* target, const Type* actual) {
+  if (target == actual) return true;
+  if (target->kind == TypeKind::Function) return actual->isCallable();
+  if (target->kind != TypeKind::Record || actual->kind != TypeKind::Record) return false;
+  if (target->fields.size() != actual->fields.size()) return false;
+  for (size_t i = 0; i < target->fields.size(); ++i)
+    if (target->fields[i].first != actual->fields[i].first ||
+        !fitsWithoutConversion(target->fields[i].second, actual->fields[i].second))
+      return false;
+  return true;
+}
+
 // Promotions allowed where a type is expected: Int -> Float, Int/Float -> Spectrum.
 Node* Builder::coerce(Node* n, const Type* target, Span span, const char* context) {
-  if (n->type == target || n->type->isError() || target->isError()) return n;
+  if (n->type->isError() || target->isError() || fitsWithoutConversion(target, n->type)) return n;
   if (target->kind == TypeKind::Float && n->type->kind == TypeKind::Int) return toFloat(n, span);
   if (target->kind == TypeKind::Spectrum &&
       (n->type->kind == TypeKind::Int || n->type->kind == TypeKind::Float))
@@ -228,6 +242,8 @@ Node* Builder::checkBinary(const Expr* e) {
       bool eq = e->binaryOp == BinaryOp::Eq;
       if (tx->kind == TypeKind::Bool && ty->kind == TypeKind::Bool)
         return prim(eq ? Prim::BEq : Prim::BNe, boolean, {x, y}, e->span);
+      // A Spectrum's equality would depend on the wavelengths it is evaluated at.
+      if (tx->kind == TypeKind::Spectrum || ty->kind == TypeKind::Spectrum) return fail();
       if (!unifyNumeric(*this, x, y, e->span)) return fail();
       if (x->type->kind == TypeKind::Int) return prim(eq ? Prim::IEq : Prim::INe, boolean, {x, y}, e->span);
       return prim(eq ? Prim::FEq : Prim::FNe, boolean, {x, y}, e->span);
@@ -456,6 +472,11 @@ Node* Builder::apply(Node* callee, Span calleeSpan, std::vector<TypedArg> args, 
 int Builder::instantiateCallable(const Type* callable, const std::vector<const Type*>& args, Span at) {
   if (callable->kind == TypeKind::FuncRef) return impl.instantiateDecl(callable->function, args, at);
   const Expr* lambda = callable->lambda;
+  if (args.size() != lambda->params.size()) {
+    error("E0415", at, "this lambda takes " + std::to_string(lambda->params.size()) + " argument(s), " +
+                           std::to_string(args.size()) + " given");
+    return -1;
+  }
   auto key = std::make_pair(static_cast<const void*>(callable), args);
   if (auto it = impl.instances.find(key); it != impl.instances.end()) return it->second;
   if (int(program.functions.size()) >= impl.maxInstances() || impl.instanceDepth > 200) {
@@ -741,8 +762,9 @@ int Session::Impl::instantiateDecl(const FunctionDecl* decl, const std::vector<c
       result = body.coerce(result, want, item.body->span, "as the declared result");
     }
   }
-  if (item.exported && result->type->containsCallable() && !result->type->isError()) {
-    body.error("E0411", item.nameSpan, "exported '" + item.name + "' returns a function value",
+  bool declaresCallable = item.resultType && resolveType(item.resultType, decl->module)->containsCallable();
+  if (item.exported && (declaresCallable || result->type->containsCallable()) && !result->type->isError()) {
+    body.error("E0411", item.resultType ? item.resultType->span : item.nameSpan, "exported '" + item.name + "' returns a function value",
                "exported definitions are called by the renderer and must return plain data");
   }
   --instanceDepth;

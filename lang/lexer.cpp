@@ -219,7 +219,7 @@ class Lexer {
           while (pos_ < text_.size() && isIdentChar(text_[pos_])) ++pos_;
           diags_.error("E0104", span(begin, pos_), "malformed number literal",
                        "write a digit before the decimal point, e.g. 0.5");
-          return make(Tok::Error, begin);
+          return make(Tok::Float, begin);  // a placeholder 0.0 keeps the parser quiet
         }
         return make(Tok::Dot, begin);
       case '-':
@@ -322,7 +322,7 @@ class Lexer {
   Token malformedNumber(size_t begin) {
     diags_.error("E0104", span(begin, pos_), "malformed number literal",
                  "numbers look like 42, 0x2a, 1_000, 1.5 or 2.5e-3");
-    return make(Tok::Error, begin);
+    return make(Tok::Float, begin);  // a placeholder 0.0 keeps the parser quiet
   }
 
   Token intToken(size_t begin, const std::string& digits, int base) {
@@ -336,7 +336,7 @@ class Lexer {
     if (overflow || (base == 10 && value > 2147483648ull) || (base == 16 && value > 0x7FFFFFFFull)) {
       diags_.error("E0105", span(begin, pos_), "integer literal out of range",
                    "Int is 32-bit: from -2147483648 to 2147483647; use a Float literal for larger values");
-      return make(Tok::Error, begin);
+      return make(Tok::Int, begin);  // a placeholder 0 keeps the parser quiet
     }
     Token t = make(Tok::Int, begin);
     t.intValue = int64_t(value);

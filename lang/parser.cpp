@@ -357,13 +357,13 @@ class Parser {
 
   // ---- expressions ---------------------------------------------------------------------
   Expr* parseExpr() {
-    DepthGuard guard(*this);
     if (at(Tok::KwLet)) return parseLetExpr();
     if (at(Tok::Pipe) || at(Tok::OrOr)) return parseLambda();
     return parseBinary(1);
   }
 
   Expr* parseLetExpr() {
+    DepthGuard guard(*this);
     Span kw = spanOf(advance());
     Expr* e = module_->newExpr(Expr::Kind::Let, kw);
     e->name = expectIdent(e->nameSpan, "a name after 'let'");
@@ -377,6 +377,7 @@ class Parser {
   }
 
   Expr* parseLambda() {
+    DepthGuard guard(*this);
     Span start = spanOf(cur());
     Expr* e = module_->newExpr(Expr::Kind::Lambda, start);
     if (!accept(Tok::OrOr)) {
@@ -412,9 +413,9 @@ class Parser {
       e->b = rhs;
       lhs = e;
       // A left-deep chain deepens the tree by one per operator: count it like nesting.
-      if (++chain + depth_ > kMaxNestingDepth) {
+      if (++chain > kMaxChainLength) {
         diags_.error("E0202", opSpan,
-                     "expression nested too deeply (more than " + std::to_string(kMaxNestingDepth) + " levels)",
+                     "operator chain too long (more than " + std::to_string(kMaxChainLength) + " operators)",
                      "split the long operator chain with let bindings");
         throw ParseAbort{};
       }
@@ -423,7 +424,6 @@ class Parser {
   }
 
   Expr* parseBinaryRhs(int minPrecedence) {
-    DepthGuard guard(*this);
     // A lambda or let may close an operator chain: `x + let y = 1 in y` is allowed.
     if (at(Tok::KwLet)) return parseLetExpr();
     if (at(Tok::Pipe) || at(Tok::OrOr)) return parseLambda();
@@ -431,8 +431,8 @@ class Parser {
   }
 
   Expr* parseUnary() {
-    DepthGuard guard(*this);
     if (at(Tok::Minus) || at(Tok::Bang) || at(Tok::Tilde)) {
+      DepthGuard guard(*this);
       Span opSpan = spanOf(cur());
       Tok k = advance().kind;
       if (k == Tok::Minus && at(Tok::Int) && cur().intValue == 2147483648LL) {
@@ -455,6 +455,7 @@ class Parser {
     int chain = 0;
     while (true) {
       if (at(Tok::LParen)) {
+        DepthGuard guard(*this);
         Expr* call = module_->newExpr(Expr::Kind::Call, e->span);
         call->a = e;
         {
@@ -490,7 +491,7 @@ class Parser {
       } else {
         return e;
       }
-      if (++chain + depth_ > kMaxNestingDepth) {
+      if (++chain > kMaxChainLength) {
         diags_.error("E0202", e->span, "expression nested too deeply",
                      "split the long chain of calls with let bindings");
         throw ParseAbort{};
@@ -531,6 +532,7 @@ class Parser {
         return e;
       }
       case Tok::LParen: {
+        DepthGuard guard(*this);
         Opener open(*this, Tok::LParen);
         advance();
         Expr* inner = parseExpr();
@@ -569,10 +571,7 @@ class Parser {
     Span open = spanOf(cur());
     Opener opener(*this, Tok::LBrace);
     advance();
-    if (at(Tok::RBrace)) {
-      advance();
-      return module_->newExpr(Expr::Kind::Record, join(open, prevEnd()));
-    }
+    if (at(Tok::RBrace)) errorHere("expected an expression or a record field", "a block needs a final expression; a record needs at least one field");
     if (at(Tok::Ident) && peekTok(1).kind == Tok::Colon) {
       Expr* e = module_->newExpr(Expr::Kind::Record, open);
       parseFieldInits(e);
@@ -585,6 +584,7 @@ class Parser {
     if (accept(Tok::KwWith)) {
       Expr* e = module_->newExpr(Expr::Kind::RecordUpdate, open);
       e->a = first;
+      if (at(Tok::RBrace)) errorHere("expected a field name after 'with'");
       parseFieldInits(e);
       expect(Tok::RBrace, "to close the record update");
       e->span = join(open, prevEnd());
@@ -621,7 +621,7 @@ class Parser {
       expect(Tok::Semi, "after the 'let' statement");
       let->span = join(kw, prevEnd());
       lets.push_back(let);
-      if (int(lets.size()) + depth_ > kMaxNestingDepth) {
+      if (int(lets.size()) > kMaxChainLength) {
         diags_.error("E0202", kw, "block nested too deeply (too many 'let' statements)",
                      "split the block into functions");
         throw ParseAbort{};

@@ -7,7 +7,8 @@
 
 namespace tex::lang {
 
-constexpr int kMaxNestingDepth = 256;
+constexpr int kMaxNestingDepth = 256;   // brackets, blocks, calls, unary operators, lets, lambdas
+constexpr int kMaxChainLength = 4096;   // operators in one chain, calls in one postfix chain, lets in one block
 
 // Lexes and parses a whole file. Always returns a module (possibly partial); errors go to diags.
 std::unique_ptr<Module> parseModule(std::shared_ptr<SourceFile> file, Diagnostics& diags);

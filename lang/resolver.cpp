@@ -213,9 +213,14 @@ void Session::Impl::resolveModule(ModuleInfo* module, Module& ast) {
   };
   for (const FunctionDecl* d : decls)
     if (!index.count(d)) strongConnect(d);
+  // Report the references that close a cycle: those to a definition at or before the
+  // referring one in the file (every cycle has one), so a cycle is reported once per back edge.
+  std::map<const FunctionDecl*, size_t> order;
+  for (size_t i = 0; i < decls.size(); ++i) order[decls[i]] = i;
   for (const FunctionDecl* d : decls) {
     for (const Reference& ref : edges[d]) {
       if (!component.count(ref.target) || component[ref.target] != component[d]) continue;
+      if (order[ref.target] > order[d]) continue;
       bool cyclic = ref.target == d;
       for (const FunctionDecl* other : decls)
         cyclic |= other != d && component[other] == component[d];

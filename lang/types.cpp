@@ -63,7 +63,10 @@ static std::string keyOf(const Type& t) {
   for (auto& [name, ft] : t.fields) key += name + ":" + ptrKey(ft) + ",";
   key += "|";
   for (auto* p : t.params) key += ptrKey(p) + ",";
-  key += "|" + ptrKey(t.result) + "|" + ptrKey(t.function) + "|" + ptrKey(t.lambda) + "|" + t.builtin + ")";
+  for (const std::string& part : {ptrKey(t.result), ptrKey(t.function), ptrKey(t.lambda), t.builtin}) {
+    key += '|';
+    key += part;
+  }
   return key;
 }
 
