@@ -535,7 +535,10 @@ class Parser {
         DepthGuard guard(*this);
         Opener open(*this, Tok::LParen);
         advance();
+        bool saved = noRecordLiteral_;
+        noRecordLiteral_ = false;
         Expr* inner = parseExpr();
+        noRecordLiteral_ = saved;
         expect(Tok::RParen, "to close the parenthesis");
         return inner;
       }
@@ -552,7 +555,10 @@ class Parser {
     DepthGuard guard(*this);
     Span kw = spanOf(advance());
     Expr* e = module_->newExpr(Expr::Kind::If, kw);
+    bool saved = noRecordLiteral_;
+    noRecordLiteral_ = true;  // `if x {` : the brace opens the branch (as in Rust)
     e->a = parseExpr();
+    noRecordLiteral_ = saved;
     if (!at(Tok::LBrace)) errorHere("expected '{' after the condition of 'if'");
     e->b = parseBraced();
     if (!at(Tok::KwElse))
@@ -571,8 +577,15 @@ class Parser {
     Span open = spanOf(cur());
     Opener opener(*this, Tok::LBrace);
     advance();
+    bool recordAllowed = !noRecordLiteral_;
+    struct Restore {
+      bool& flag;
+      bool value;
+      ~Restore() { flag = value; }
+    } restore{noRecordLiteral_, noRecordLiteral_};
+    noRecordLiteral_ = false;
     if (at(Tok::RBrace)) errorHere("expected an expression or a record field", "a block needs a final expression; a record needs at least one field");
-    if (at(Tok::Ident) && peekTok(1).kind == Tok::Colon) {
+    if (recordAllowed && at(Tok::Ident) && peekTok(1).kind == Tok::Colon) {
       Expr* e = module_->newExpr(Expr::Kind::Record, open);
       parseFieldInits(e);
       expect(Tok::RBrace, "to close the record");
@@ -658,6 +671,7 @@ class Parser {
   size_t pos_ = 0;
   int depth_ = 0;
   bool tooDeep_ = false;
+  bool noRecordLiteral_ = false;  // inside an `if` condition, outside brackets
   std::vector<std::pair<Span, Tok>> openers_;
 };
 

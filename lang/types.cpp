@@ -124,8 +124,17 @@ const Type* TypeTable::hit() {
                  {"dpdy", vec(3)}, {"duvdx", vec(2)}, {"duvdy", vec(2)}});
 }
 
+static std::string typeNameUnbounded(const Type* t, int depth);
+
 std::string typeName(const Type* t) {
+  // Nested records can be exponentially large when printed; messages get a bounded form.
+  std::string s = typeNameUnbounded(t, 0);
+  return s.size() > 240 ? s.substr(0, 237) + "..." : s;
+}
+
+static std::string typeNameUnbounded(const Type* t, int depth) {
   if (!t) return "?";
+  if (depth > 6) return "...";
   switch (t->kind) {
     case TypeKind::Error: return "<error>";
     case TypeKind::Bool: return "Bool";
@@ -142,7 +151,7 @@ std::string typeName(const Type* t) {
       std::string s = "{";
       for (size_t i = 0; i < t->fields.size(); ++i) {
         if (i) s += ", ";
-        s += t->fields[i].first + ": " + typeName(t->fields[i].second);
+        s += t->fields[i].first + ": " + typeNameUnbounded(t->fields[i].second, depth + 1);
       }
       return s + "}";
     }
@@ -150,9 +159,9 @@ std::string typeName(const Type* t) {
       std::string s = "(";
       for (size_t i = 0; i < t->params.size(); ++i) {
         if (i) s += ", ";
-        s += typeName(t->params[i]);
+        s += typeNameUnbounded(t->params[i], depth + 1);
       }
-      return s + ") -> " + typeName(t->result);
+      return s + ") -> " + typeNameUnbounded(t->result, depth + 1);
     }
     case TypeKind::FuncRef: return "<function>";
     case TypeKind::BuiltinRef: return "<builtin " + t->builtin + ">";
