@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "renderer/color/cie_tables.h"
 #include "renderer/color/spectral_to_rgb.h"
@@ -14,10 +17,16 @@ namespace {
 constexpr double kFixedScale = 16777216.0;  // 2^24 units per 1.0
 constexpr double kFixedLimit = 4.0e18;      // per-record clamp, keeps a single add from wrapping
 
+// Round to nearest fixed-point units; NaN becomes 0 and huge values saturate (branch-free).
 inline int64_t toFixed(double x) {
   double scaled = x * kFixedScale;
-  if (!(std::fabs(scaled) < kFixedLimit)) scaled = std::isnan(scaled) ? 0.0 : std::copysign(kFixedLimit, scaled);
-  return int64_t(scaled + (scaled >= 0 ? 0.5 : -0.5));
+  scaled = scaled == scaled ? scaled : 0.0;
+  scaled = std::min(std::max(scaled, -kFixedLimit), kFixedLimit);
+#if defined(__SSE2__)
+  return _mm_cvtsd_si64(_mm_set_sd(scaled));  // rounds to nearest (the default MXCSR mode)
+#else
+  return std::llrint(scaled);
+#endif
 }
 inline double fromFixed(int64_t x) { return double(x) / kFixedScale; }
 
@@ -59,6 +68,18 @@ void FilmAccumulator::add(const SampleRecord& r) {
   const int width = settings_.width, height = settings_.height;
   if (width <= 0 || height <= 0) return;
   if (!(r.filmX >= 0.0f && r.filmX < 1.0f && r.filmY >= 0.0f && r.filmY < 1.0f)) return;  // off film or NaN
+  const float x = r.filmX * float(width), y = r.filmY * float(height);  // pixel units
+  if (settings_.filter == FilterKind::Box && settings_.valueKind == ValueKind::Scalar) {
+    // The common fast path: one pixel, one grey value.
+    const int px = std::min(int(x), width - 1), py = std::min(int(y), height - 1);
+    int64_t* s = &sums_[(size_t(py) * width + px) * stride_];
+    const double a = r.weight, ac = a * r.values[0];
+    const int64_t fa = toFixed(a), fa2 = toFixed(a * a), fac = toFixed(ac), fac2 = toFixed(ac * r.values[0]);
+    s[kSumA] += fa, s[kSumA2] += fa2;
+    s[kSumAC] += fac, s[kSumAC + 1] += fac, s[kSumAC + 2] += fac;
+    s[kSumAC2] += fac2, s[kSumAC2 + 1] += fac2, s[kSumAC2 + 2] += fac2;
+    return;
+  }
   const Colour colour = colourOf(r);
   const float* bins = nullptr;
   if (settings_.spectralBins > 0) {
@@ -72,7 +93,6 @@ void FilmAccumulator::add(const SampleRecord& r) {
     }
     bins = binScratch_.data();
   }
-  const float x = r.filmX * float(width), y = r.filmY * float(height);  // pixel units
   if (settings_.filter == FilterKind::Box) {
     const int px = std::min(int(x), width - 1), py = std::min(int(y), height - 1);
     splat(px, py, r.weight, colour, bins);

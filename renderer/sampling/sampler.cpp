@@ -6,6 +6,11 @@
 
 namespace tex::sampling {
 
+Sampler::Sampler(SamplerKind kind, uint64_t seed) : kind_(kind), seed_(seed) {
+  filmScrambleSeeds_[0] = sobolScrambleSeed(seed, 0, 0);
+  filmScrambleSeeds_[1] = sobolScrambleSeed(seed, 1, 0);
+}
+
 uint32_t Sampler::getBits(uint64_t index, int dimension) const {
   if (kind_ == SamplerKind::Sobol) return sobolOwenBits(seed_, index, dimension);
   return randomBits(seed_, index, dimension);
@@ -16,6 +21,11 @@ float Sampler::get(uint64_t index, int dimension) const { return bitsToUnitFloat
 FilmPosition Sampler::filmPosition(uint64_t index) const {
   if (kind_ == SamplerKind::Sobol) {
     uint32_t x = 0, y = 0;
+    if ((index >> 32) == 0) {
+      sobolFirstTwoReversed(uint32_t(index), x, y);
+      return {bitsToUnitFloat(reverseBits32(laineKarrasPermutation(x, filmScrambleSeeds_[0]))),
+              bitsToUnitFloat(reverseBits32(laineKarrasPermutation(y, filmScrambleSeeds_[1])))};
+    }
     sobolOwenFirstTwo(seed_, index, x, y);
     return {bitsToUnitFloat(x), bitsToUnitFloat(y)};
   }

@@ -24,7 +24,7 @@ struct FilmPosition {
 
 class Sampler {
  public:
-  Sampler(SamplerKind kind, uint64_t seed) : kind_(kind), seed_(seed) {}
+  Sampler(SamplerKind kind, uint64_t seed);
 
   // Coordinate `dimension` of sample `index`, in [0,1).
   float get(uint64_t index, int dimension) const;
@@ -39,6 +39,7 @@ class Sampler {
  private:
   SamplerKind kind_;
   uint64_t seed_;
+  uint32_t filmScrambleSeeds_[2];  // Sobol scramble seeds of dimensions 0, 1 for indices < 2^32
 };
 
 const char* samplerName(SamplerKind kind);

@@ -23,9 +23,29 @@ inline uint32_t sobolBits(uint32_t index, int dimension) {
   return bits;
 }
 
+inline uint32_t reverseBits32(uint32_t x) {
+  x = __builtin_bswap32(x);  // bytes, then bits within bytes
+  x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
+  x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);
+  return ((x >> 4) & 0x0f0f0f0fu) | ((x & 0x0f0f0f0fu) << 4);
+}
+
+// Burley 2020, listing 2 (the improved Laine-Karras hash). Every step maps bit k from bits
+// <= k only, which is what makes the reversed application a nested (Owen) scramble.
+inline uint32_t laineKarrasPermutation(uint32_t x, uint32_t seed) {
+  x ^= x * 0x3d20adeau;
+  x += seed;
+  x *= (seed >> 16) | 1u;
+  x ^= x * 0x05526c56u;
+  x ^= x * 0x53a22864u;
+  return x;
+}
+
 // Nested uniform scramble of 32 fixed-point bits (bit k of the result depends only on bits
 // more significant than k and on the seed).
-uint32_t owenScramble(uint32_t bits, uint32_t seed);
+inline uint32_t owenScramble(uint32_t bits, uint32_t seed) {
+  return reverseBits32(laineKarrasPermutation(reverseBits32(bits), seed));
+}
 
 // The per-dimension scramble seed for a sampler seed and the index's high word.
 uint32_t sobolScrambleSeed(uint64_t seed, int dimension, uint32_t indexHigh);
@@ -36,6 +56,10 @@ uint32_t sobolOwenBits(uint64_t seed, uint64_t index, int dimension);
 
 // Scrambled Sobol coordinate in [0,1).
 float sobolOwen(uint64_t seed, uint64_t index, int dimension);
+
+// The first two unscrambled dimensions at once, bit-reversed (the form the scramble works
+// on), via byte tables.
+void sobolFirstTwoReversed(uint32_t index, uint32_t& reversed0, uint32_t& reversed1);
 
 // The first two scrambled dimensions at once (the film position), via byte tables.
 void sobolOwenFirstTwo(uint64_t seed, uint64_t index, uint32_t& bits0, uint32_t& bits1);

@@ -1,0 +1,199 @@
+// `tex develop`: sample files to an image at any resolution and filter.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+
+#include "cli/command.h"
+#include "cli/option_values.h"
+#include "renderer/film/film.h"
+#include "renderer/io/sample_file.h"
+#include "renderer/sampling/sampler.h"
+
+namespace tex::cli {
+
+namespace {
+
+const char* kDevelopUsage =
+    "usage: tex develop SAMPLES... -o OUT.exr|OUT.png [options]\n"
+    "\n"
+    "Develops sample files (written by --samples-out) into an image. The samples are a\n"
+    "continuous image: any resolution and filter can be chosen. Several files (e.g. index\n"
+    "ranges rendered by different processes or machines) are merged; the result is\n"
+    "bit-identical to developing one file holding the same ranges.\n"
+    "\n"
+    "options:\n"
+    "  -o, --output PATH       .exr (float RGB + metadata) or .png (8-bit sRGB)\n"
+    "  --res WxH               resolution (default 512x512)\n"
+    "  --filter NAME           box | tent | gaussian | mitchell (default box)\n"
+    "  --estimator NAME        weighted (sum a c / sum a, default) | density (sum a c * W*H / N)\n"
+    "  --half                  write half-float EXR channels\n"
+    "  --no-variance           omit the variance.R/G/B channels (EXR)\n"
+    "  --spectral-bins N       add N spectral channels over 360-830 nm (EXR, spectral files)\n"
+    "  --thumbnail PATH        also write a relative-variance thumbnail (PNG or EXR)\n"
+    "  -q, --quiet             no summary on stderr\n";
+
+int usage(const std::string& message) {
+  std::fprintf(stderr, "tex develop: error: %s\n%s", message.c_str(), kDevelopUsage);
+  return 2;
+}
+
+std::string isoTimeNow() {
+  const std::time_t now = std::time(nullptr);
+  char buffer[32];
+  std::strftime(buffer, sizeof buffer, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
+  return buffer;
+}
+
+}  // namespace
+
+int runDevelop(const Args& args) {
+  if (wantsHelp(args)) {
+    std::fputs(kDevelopUsage, stdout);
+    return 0;
+  }
+  std::vector<std::string> inputs;
+  std::string output, thumbnail;
+  FilmSettings settings;
+  settings.width = settings.height = 512;
+  FilmEstimator estimator = FilmEstimator::Weighted;
+  bool half = false, variance = true, quiet = false;
+  for (size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    auto value = [&](std::string& out) {
+      if (i + 1 >= args.size()) return false;
+      out = args[++i];
+      return true;
+    };
+    std::string v;
+    if (a == "-o" || a == "--output") {
+      if (!value(output)) return usage("-o needs a path");
+    } else if (a == "--res") {
+      if (!value(v) || !parseResolution(v, settings.width, settings.height)) return usage("--res needs WxH, e.g. 640x480");
+    } else if (a == "--filter") {
+      if (!value(v)) return usage("--filter needs a name");
+      const auto kind = parseFilterKind(v);
+      if (!kind) return usage("unknown filter '" + v + "' (box, tent, gaussian, mitchell)");
+      settings.filter = *kind;
+    } else if (a == "--estimator") {
+      if (!value(v) || (v != "weighted" && v != "density")) return usage("--estimator needs weighted or density");
+      estimator = v == "weighted" ? FilmEstimator::Weighted : FilmEstimator::Density;
+    } else if (a == "--half") {
+      half = true;
+    } else if (a == "--no-variance") {
+      variance = false;
+    } else if (a == "--spectral-bins") {
+      if (!value(v) || !parseIntInRange(v, settings.spectralBins, 0, 470)) return usage("--spectral-bins needs 0..470");
+    } else if (a == "--thumbnail") {
+      if (!value(thumbnail)) return usage("--thumbnail needs a path");
+    } else if (a == "-q" || a == "--quiet") {
+      quiet = true;
+    } else if (!a.empty() && a[0] == '-') {
+      return usage("unknown option '" + a + "'");
+    } else {
+      inputs.push_back(a);
+    }
+  }
+  if (inputs.empty()) return usage("no sample file given");
+  if (output.empty()) return usage("no output given (-o OUT.exr)");
+
+  // Headers first: the files must describe the same render and disjoint index ranges.
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<SampleFileInfo> infos(inputs.size());
+  std::vector<runtime::IndexRange> allRanges;
+  for (size_t k = 0; k < inputs.size(); ++k) {
+    if (std::string e = readSampleFileInfo(inputs[k], infos[k]); !e.empty()) {
+      std::fprintf(stderr, "tex develop: error: %s\n", e.c_str());
+      return 1;
+    }
+    const SampleFileHeader& h = infos[k].header;
+    const SampleFileHeader& first = infos[0].header;
+    if (h.sceneHash != first.sceneHash || h.seed != first.seed || h.valueKind != first.valueKind) {
+      std::fprintf(stderr, "tex develop: error: %s: not from the same render as %s (scene hash, seed or value kind differ)\n",
+                   inputs[k].c_str(), inputs[0].c_str());
+      return 1;
+    }
+    allRanges.insert(allRanges.end(), infos[k].ranges.begin(), infos[k].ranges.end());
+  }
+  if (runtime::rangesOverlap(allRanges)) {
+    std::fprintf(stderr, "tex develop: error: the sample files overlap in their index ranges (samples would count twice)\n");
+    return 1;
+  }
+  settings.valueKind = infos[0].header.valueKind;
+  if (settings.valueKind == ValueKind::Scalar) settings.spectralBins = 0;
+
+  FilmAccumulator film(settings);
+  uint64_t records = 0;
+  for (size_t k = 0; k < inputs.size(); ++k) {
+    SampleFileInfo info;
+    const std::string e = readSampleFile(inputs[k], info, [&](runtime::IndexRange, std::span<const SampleRecord> chunk) {
+      film.add(chunk.data(), chunk.size());
+    });
+    if (!e.empty()) {
+      std::fprintf(stderr, "tex develop: error: %s\n", e.c_str());
+      return 1;
+    }
+    if (!info.complete && !quiet) {
+      std::fprintf(stderr, "tex develop: warning: %s has no footer (its writer stopped early); using its %llu whole chunks\n",
+                   inputs[k].c_str(), (unsigned long long)info.chunks);
+    }
+    records += info.records;
+  }
+  const std::vector<runtime::IndexRange> ranges = runtime::mergeRanges(allRanges);
+  const uint64_t samples = runtime::totalSize(ranges);
+  const DevelopedImage image = film.develop(estimator, samples);
+
+  const SampleFileHeader& h = infos[0].header;
+  char hash[32];
+  std::snprintf(hash, sizeof hash, "%016llx", (unsigned long long)h.sceneHash);
+  const std::map<std::string, std::string> metadata = {
+      {"tex.samples", std::to_string(samples)},
+      {"tex.records", std::to_string(records)},
+      {"tex.indexRanges", runtime::formatRanges(ranges)},
+      {"tex.seed", std::to_string(h.seed)},
+      {"tex.sceneHash", hash},
+      {"tex.sampler", h.sampler <= 1 ? sampling::samplerName(sampling::SamplerKind(h.sampler)) : "unknown"},
+      {"tex.integrator", h.integrator},
+      {"tex.filter", filterName(settings.filter)},
+      {"tex.estimator", estimator == FilmEstimator::Weighted ? "weighted" : "density"},
+      {"tex.time", isoTimeNow()},
+  };
+  std::string error;
+  const bool png = output.size() >= 4 && output.substr(output.size() - 4) == ".png";
+  if (png) {
+    error = writeRgbImage(output, image.rgbImage());
+  } else {
+    error = writeExr(output, image.toExr(variance, settings.spectralBins > 0, metadata),
+                     half ? ExrPixelType::Half : ExrPixelType::Float);
+  }
+  if (!error.empty()) {
+    std::fprintf(stderr, "tex develop: error: %s\n", error.c_str());
+    return 1;
+  }
+  if (!thumbnail.empty()) {
+    int tw = 0, th = 0;
+    const std::vector<float> rel = image.relativeVarianceThumbnail(64, tw, th);
+    RgbImage thumb{tw, th, std::vector<float>(size_t(tw) * th * 3)};
+    for (size_t p = 0; p < rel.size(); ++p) {
+      // Log scale: relative variance 1e-6 -> black, 1 -> white.
+      const float t = std::clamp((std::log10(std::max(rel[p], 1e-6f)) + 6.0f) / 6.0f, 0.0f, 1.0f);
+      thumb.rgb[p * 3] = thumb.rgb[p * 3 + 1] = thumb.rgb[p * 3 + 2] = t;
+    }
+    if (std::string e = writeRgbImage(thumbnail, thumb); !e.empty()) {
+      std::fprintf(stderr, "tex develop: error: %s\n", e.c_str());
+      return 1;
+    }
+  }
+  if (!quiet) {
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::fprintf(stderr, "tex develop: %llu records (%llu samples, %s) -> %s %dx%d %s filter in %.2f s\n",
+                 (unsigned long long)records, (unsigned long long)samples, runtime::formatRanges(ranges).c_str(),
+                 output.c_str(), settings.width, settings.height, filterName(settings.filter), seconds);
+  }
+  return 0;
+}
+
+TEX_COMMAND("develop", "develop sample files into an image at any resolution and filter", &runDevelop);
+
+}  // namespace tex::cli
