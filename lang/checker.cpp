@@ -479,7 +479,7 @@ int Builder::instantiateCallable(const Type* callable, const std::vector<const T
   }
   auto key = std::make_pair(static_cast<const void*>(callable), args);
   if (auto it = impl.instances.find(key); it != impl.instances.end()) return it->second;
-  if (int(program.functions.size()) >= impl.maxInstances() || impl.instanceDepth > 200) {
+  if (++impl.genericInstances > impl.maxInstances() || impl.instanceDepth > 200) {
     error("E0413", at, "specialisation limit exceeded: too many or too deeply nested function instances");
     return -1;
   }
@@ -506,7 +506,10 @@ int Builder::instantiateCallable(const Type* callable, const std::vector<const T
     Node* get = program.node(Node::Kind::GetField, callable->fields[k].second, lambda->span);
     get->index = int(k);
     get->args = {body.local(closureSlot, callable, lambda->span)};
-    int slot = body.declareLocal(callable->fields[k].first, callable->fields[k].second);
+    const Type* fnAnnotation = nullptr;
+    if (auto it = impl.captureAnnotations.find({lambda, callable->fields[k].first}); it != impl.captureAnnotations.end())
+      fnAnnotation = it->second;
+    int slot = body.declareLocal(callable->fields[k].first, callable->fields[k].second, fnAnnotation);
     captures.push_back({slot, get});
   }
   Node* result = body.wrapLets(captures, body.check(lambda->a));
@@ -660,6 +663,8 @@ Node* Builder::checkLambda(const Expr* e) {
     if (!l || l->name.empty()) continue;
     captures.push_back({n, l->type});
     values.push_back(local(l->slot, l->type, e->span));
+    // A captured parameter keeps its function-type annotation inside the lambda.
+    if (l->fnAnnotation) impl.captureAnnotations[{e, n}] = l->fnAnnotation;
   }
   impl.lambdaModule[e] = module;
   Node* n = program.node(Node::Kind::MakeRecord, types.lambda(e, captures), e->span);
@@ -732,7 +737,10 @@ int Session::Impl::instantiateDecl(const FunctionDecl* decl, const std::vector<c
     return it->second;
   }
   ir::Program& program = session.program();
-  if (int(program.functions.size()) >= session.options_.maxInstances || instanceDepth > 200) {
+  // Only instances of generic definitions can multiply; annotated ones exist once each.
+  bool generic = false;
+  for (const Param& p : decl->item->params) generic |= !p.type;
+  if ((generic && ++genericInstances > session.options_.maxInstances) || instanceDepth > 200) {
     error("E0413", at, "specialisation limit exceeded while instantiating '" + decl->item->name + "'",
           "too many distinct instances of generic functions or lambdas (limit " +
               std::to_string(session.options_.maxInstances) + ")");
@@ -740,6 +748,7 @@ int Session::Impl::instantiateDecl(const FunctionDecl* decl, const std::vector<c
   }
   instances[key] = -2;
   ++instanceDepth;
+  size_t diagnosticsBefore = session.diags().size();
   Builder body(*this, decl->module);
   const Item& item = *decl->item;
   std::vector<const Type*> paramTypes;
@@ -768,6 +777,13 @@ int Session::Impl::instantiateDecl(const FunctionDecl* decl, const std::vector<c
                "exported definitions are called by the renderer and must return plain data");
   }
   --instanceDepth;
+  // Errors inside a generic instance also point at the call that asked for it.
+  if (at.file && at.begin != item.nameSpan.begin) {
+    for (size_t i = diagnosticsBefore; i < session.diags().size(); ++i) {
+      Diagnostic& d = session.diags().at(i);
+      if (d.notes.size() < 4) d.notes.push_back({at, "in '" + decl->item->name + "' as called here"});
+    }
+  }
   int idx = int(program.functions.size());
   ir::Function fn;
   std::string name = decl->qualifiedName();

@@ -27,6 +27,8 @@ struct Session::Impl {
   std::map<const Expr*, ModuleInfo*> lambdaModule;  // the module a lambda's names resolve in
   std::set<std::tuple<std::string, const SourceFile*, uint32_t>> reported;  // dedupe
   int instanceDepth = 0;
+  int genericInstances = 0;  // instances of unannotated definitions and lambdas (E0413)
+  std::map<std::pair<const Expr*, std::string>, const Type*> captureAnnotations;
   int maxInstances() const { return session.options_.maxInstances; }
 
   // Loader (session.cpp)

@@ -46,6 +46,7 @@ class Diagnostics {
   bool hasErrors() const;
   size_t size() const { return items_.size(); }
   const std::vector<Diagnostic>& items() const { return items_; }
+  Diagnostic& at(size_t i) { return items_[i]; }
   void clear() { items_.clear(); }
 
  private:
