@@ -737,6 +737,7 @@ int Session::Impl::instantiateDecl(const FunctionDecl* decl, const std::vector<c
     return it->second;
   }
   ir::Program& program = session.program();
+  if (instanceDepth == 0) genericInstances = 0;  // the limit is per top-level request
   // Only instances of generic definitions can multiply; annotated ones exist once each.
   bool generic = false;
   for (const Param& p : decl->item->params) generic |= !p.type;
@@ -828,6 +829,7 @@ void Session::Impl::checkEagerly(ModuleInfo* module, Module& ast) {
 int Session::Impl::compileExpression(ModuleInfo* scope, const Expr* expr,
                                      const std::vector<std::pair<std::string, const Type*>>& params) {
   ir::Program& program = session.program();
+  genericInstances = 0;  // the limit is per top-level request
   Builder body(*this, scope);
   std::vector<const Type*> paramTypes;
   for (auto& [name, type] : params) {

@@ -49,3 +49,13 @@ TEST(Interpreter, StdlibModulesCheckCleanly) {
     for (auto& d : s.diags().items()) ADD_FAILURE() << renderDiagnostic(d);
   }
 }
+
+TEST(Interpreter, LongReplSessionNeverHitsTheSpecialisationLimit) {
+  // The E0413 limit bounds one request, not the lifetime of a session.
+  Session s;
+  Expr* expr = nullptr;
+  for (int n = 0; n < 25000; ++n) {
+    ASSERT_TRUE(s.addReplInput("(|x| x + " + std::to_string(n) + ")(1)", expr, n));
+    ASSERT_GE(s.compileExpression(s.replModule(), expr, {}), 0) << "line " << n;
+  }
+}
