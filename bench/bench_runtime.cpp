@@ -63,7 +63,7 @@ void BM_TrivialKernelThroughFilmSink(benchmark::State& state) {
   state.counters["samples/s/core"] =
       benchmark::Counter(double(state.iterations() * samples) / threads, benchmark::Counter::kIsRate);
 }
-BENCHMARK(BM_TrivialKernelThroughFilmSink)->Args({1, 256})->Args({1, 1024})->Args({2, 256})->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_TrivialKernelThroughFilmSink)->Args({1, 64})->Args({1, 256})->Args({1, 1024})->Args({2, 256})->UseManualTime()->Unit(benchmark::kMillisecond);
 
 void BM_ComputeKernel(benchmark::State& state) {
   const int threads = int(state.range(0));
