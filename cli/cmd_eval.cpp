@@ -10,6 +10,7 @@
 
 #include "cli/command.h"
 #include "cli/options.h"
+#include "cli/texture_evaluator.h"
 #include "lang/interpreter.h"
 #include "lang/session.h"
 #include "renderer/color/spectral_to_rgb.h"
@@ -24,17 +25,21 @@ const char* kHelp =
     "unit square of uv (u to the right, v downwards, as in glTF) and writes an image: OpenEXR\n"
     "(linear, float) or PNG (sRGB-encoded). Hit: p = (u, v, 0), n = (0, 0, 1), uv = (u, v),\n"
     "derivatives one pixel wide. Results: Float (grey), Color, Vec2/3/4 (as RGB) or Spectrum\n"
-    "(a reflectance seen under D65, integrated over 32 wavelengths).\n\n"
+    "(a reflectance seen under D65, integrated over 32 wavelengths). The texture is compiled by\n"
+    "the LLVM JIT (O1) and evaluated on all cores.\n\n"
     "  --fn NAME      the exported or top-level function to evaluate (required)\n"
     "  --size WxH     image size (default 256x256)\n"
     "  -o OUT         output file, .exr or .png (required)\n"
     "  --threads N    worker threads (default: all cores)\n"
-    "  --interp       use the reference interpreter (the default until the JIT lands)\n"
+    "  --interp       use the reference interpreter instead of the JIT\n"
+    "  --no-cache     do not read or write the compiled-code cache\n"
     "  -I DIR         add DIR to the module search path\n";
 
 struct Options {
   std::string file, function, output;
   int width = 256, height = 256, threads = 0;
+  bool interpret = false;
+  compiler::CompileOptions compile;
   lang::SessionOptions session;
 };
 
@@ -61,7 +66,9 @@ int parse(const Args& args, Options& o) {
       if (!value(v)) return usageError("eval", "-I needs a directory");
       o.session.searchPath.push_back(v);
     } else if (a == "--interp") {
-      // The interpreter is the only evaluator for now.
+      o.interpret = true;
+    } else if (a == "--no-cache") {
+      o.compile.useCache = false;
     } else if (!a.empty() && a[0] == '-') {
       return usageError("eval", "unknown option '" + a + "'");
     } else if (o.file.empty()) {
@@ -82,26 +89,28 @@ void printDiagnostics(lang::Session& session) {
   for (const lang::Diagnostic& d : session.diags().items()) std::fputs(lang::renderDiagnostic(d).c_str(), stderr);
 }
 
-// Converts one evaluated value to linear RGB.
-color::Rgb toRgb(const lang::Value& v, const lang::Type* t, const lang::ir::Program& program, int fn,
-                 const lang::Value& hit) {
+// Evaluates one pixel to linear RGB.
+color::Rgb pixelRgb(const TextureEvaluator& evaluator, const compiler::HitAbi& hit) {
+  const lang::Type* t = evaluator.resultType();
+  float v[compiler::kMaxWavelengths];
+  if (t->kind != lang::TypeKind::Spectrum) {
+    const float lambdas[4] = {400, 500, 600, 700};
+    evaluator.evaluate(hit, lambdas, 4, v);
+  }
   switch (t->kind) {
-    case lang::TypeKind::Float: return {v.f[0], v.f[0], v.f[0]};
-    case lang::TypeKind::Vec2: return {v.f[0], v.f[1], 0};
+    case lang::TypeKind::Float: return {v[0], v[0], v[0]};
+    case lang::TypeKind::Vec2: return {v[0], v[1], 0};
     case lang::TypeKind::Vec3:
     case lang::TypeKind::Vec4:
-    case lang::TypeKind::Color: return {v.f[0], v.f[1], v.f[2]};
+    case lang::TypeKind::Color: return {v[0], v[1], v[2]};
     case lang::TypeKind::Spectrum: {
       // 8 stratified hero groups of 4 wavelengths: a noise-free enough look at a reflectance.
       color::Rgb sum;
       const int groups = 8;
       for (int g = 0; g < groups; ++g) {
         color::WavelengthGroup group = color::sampleWavelengthGroup((g + 0.5f) / (groups * 4.0f), 4);
-        lang::WavelengthGroup langGroup;
-        langGroup.count = group.count;
-        for (int j = 0; j < group.count; ++j) langGroup.lambdaNm[j] = group.lambdaNm[size_t(j)];
-        lang::Value s = lang::evaluate(program, fn, {hit}, langGroup);
-        color::Rgb rgb = color::reflectanceGroupToLinearSrgb(group, s.f);
+        evaluator.evaluate(hit, group.lambdaNm.data(), group.count, v);
+        color::Rgb rgb = color::reflectanceGroupToLinearSrgb(group, v);
         sum.r += rgb.r / groups;
         sum.g += rgb.g / groups;
         sum.b += rgb.b / groups;
@@ -110,6 +119,16 @@ color::Rgb toRgb(const lang::Value& v, const lang::Type* t, const lang::ir::Prog
     }
     default: return {0, 0, 0};
   }
+}
+
+compiler::HitAbi hitAt(float u, float v, float du, float dv) {
+  compiler::HitAbi h{};
+  h.p[0] = u, h.p[1] = v, h.p[2] = 0;
+  h.n[2] = 1;
+  h.uv[0] = u, h.uv[1] = v;
+  h.dpdx[0] = du, h.dpdy[1] = dv;
+  h.duvdx[0] = du, h.duvdy[1] = dv;
+  return h;
 }
 
 int runEval(const Args& args) {
@@ -151,6 +170,12 @@ int runEval(const Args& args) {
     return 1;
   }
 
+  auto evaluator = TextureEvaluator::create(program, fn, o.interpret, o.compile, session.diags());
+  if (!evaluator) {
+    printDiagnostics(session);
+    return 1;
+  }
+
   RgbImage image;
   image.width = o.width;
   image.height = o.height;
@@ -164,10 +189,7 @@ int runEval(const Args& args) {
   const float du = 1.0f / float(o.width), dv = 1.0f / float(o.height);
   oneapi::tbb::parallel_for(0, o.height, [&](int y) {
     for (int x = 0; x < o.width; ++x) {
-      lang::Value hit = lang::makeHit((float(x) + 0.5f) * du, (float(y) + 0.5f) * dv, du, dv);
-      lang::WavelengthGroup group;
-      lang::Value v = result->kind == lang::TypeKind::Spectrum ? lang::Value{} : lang::evaluate(program, fn, {hit}, group);
-      color::Rgb rgb = toRgb(v, result, program, fn, hit);
+      color::Rgb rgb = pixelRgb(*evaluator, hitAt((float(x) + 0.5f) * du, (float(y) + 0.5f) * dv, du, dv));
       float* out = &image.rgb[(size_t(y) * size_t(o.width) + size_t(x)) * 3];
       float c[3] = {rgb.r, rgb.g, rgb.b};
       for (int k = 0; k < 3; ++k) {
@@ -186,8 +208,15 @@ int runEval(const Args& args) {
     std::fprintf(stderr, "tex eval: error: %s\n", err.c_str());
     return 1;
   }
-  std::fprintf(stderr, "tex eval: %s %dx%d in %.2f s (%.2f Mpixel/s, interpreter)\n", o.output.c_str(), o.width,
-               o.height, seconds, double(o.width) * o.height / seconds * 1e-6);
+  std::string how = "interpreter";
+  if (evaluator->compiled()) {
+    const compiler::CompileStats& stats = evaluator->module()->stats();
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "JIT O1, compiled in %.1f ms%s", stats.milliseconds, stats.cacheHit ? " (cache hit)" : "");
+    how = buf;
+  }
+  std::fprintf(stderr, "tex eval: %s %dx%d in %.2f s (%.2f Mpixel/s, %s)\n", o.output.c_str(), o.width, o.height,
+               seconds, double(o.width) * o.height / seconds * 1e-6, how.c_str());
   if (nonFinite)
     std::fprintf(stderr, "tex eval: warning: %zu non-finite channel values (NaN/Inf) were written as 0\n", nonFinite);
   return 0;

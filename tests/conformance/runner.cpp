@@ -2,6 +2,7 @@
 // and type, or its exact set of diagnostics. Usage: conformance_runner DIR|FILE... [-v]
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -10,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "compiler/jit.h"
+#include "compiler/value_layout.h"
 #include "lang/interpreter.h"
 #include "lang/session.h"
 
@@ -17,6 +20,8 @@ namespace fs = std::filesystem;
 using namespace tex::lang;
 
 namespace {
+
+int jitComparisons = 0;  // compiled runs compared with the interpreter
 
 struct Expectation {
   bool hasValue = false;
@@ -86,6 +91,84 @@ bool approximatelyEqual(const std::string& got, const std::string& want) {
   return std::fabs(g - w) <= 1e-5 * std::max(1.0, std::fabs(w));
 }
 
+// The floating-point contract of docs/language.md section 5, as the differential tests use
+// it: + - * / sqrt agree exactly; transcendentals within 4 ulp. Lane by lane: identical bits,
+// both NaN, or at most 4 units in the last place apart.
+bool floatsAgree(float a, float b) {
+  if (std::isnan(a) || std::isnan(b)) return std::isnan(a) && std::isnan(b);
+  if (a == b) return std::signbit(a) == std::signbit(b) || a != 0;
+  if (std::isinf(a) || std::isinf(b)) return false;
+  auto ordered = [](float f) {
+    int32_t i;
+    std::memcpy(&i, &f, 4);
+    return i < 0 ? int64_t(INT32_MIN) - i : int64_t(i);
+  };
+  return std::llabs(ordered(a) - ordered(b)) <= 4;
+}
+
+bool valuesAgree(const Value& a, const Value& b, const Type* t, int lanes) {
+  switch (t->kind) {
+    case TypeKind::Bool: return (a.i != 0) == (b.i != 0);
+    case TypeKind::Int: return a.i == b.i;
+    case TypeKind::Material: {
+      WavelengthGroup g;
+      g.count = lanes;
+      return formatValue(a, t, g) == formatValue(b, t, g);
+    }
+    case TypeKind::Record:
+    case TypeKind::Lambda:
+      for (size_t i = 0; i < t->fields.size(); ++i)
+        if (!valuesAgree((*a.fields)[i], (*b.fields)[i], t->fields[i].second, lanes)) return false;
+      return true;
+    default: {
+      int n = t->kind == TypeKind::Spectrum ? lanes : t->fixedLanes();
+      for (int i = 0; i < n; ++i)
+        if (!floatsAgree(a.f[i], b.f[i])) return false;
+      return true;
+    }
+  }
+}
+
+bool containsSpectrum(const Type* t) {
+  if (t->kind == TypeKind::Spectrum) return true;
+  for (auto& f : t->fields)
+    if (containsSpectrum(f.second)) return true;
+  return false;
+}
+
+// Runs `fn` compiled at `opt` with `lanes` wavelengths; compares with the interpreter.
+std::string differential(Session& session, int fn, tex::compiler::OptLevel opt, int lanes) {
+  tex::compiler::CompileOptions options;
+  options.opt = opt;
+  options.wavelengths = lanes;
+  options.useCache = false;
+  Diagnostics diags;
+  auto module = tex::compiler::compile(session.program(), {fn}, options, diags);
+  const char* mode = opt == tex::compiler::OptLevel::Quick ? "quick" : "O1";
+  if (!module) {
+    std::string all;
+    for (auto& d : diags.items()) all += renderDiagnostic(d);
+    return std::string("JIT (") + mode + ") failed:\n" + all;
+  }
+  WavelengthGroup group;
+  group.count = lanes;
+  tex::compiler::ShadingContext ctx{};
+  for (int i = 0; i < lanes; ++i) ctx.lambdaNm[i] = group.lambdaNm[i] = 400.0f + 100.0f * float(i) / (lanes == 8 ? 2 : 1);
+  ctx.wavelengthCount = lanes;
+  std::vector<tex::compiler::ClosureNode> nodes(256);
+  tex::compiler::ClosureArena arena{nodes.data(), int32_t(nodes.size()), 0, 0};
+  ctx.arena = &arena;
+  const Type* resultType = session.program().functions[size_t(fn)].resultType;
+  std::vector<uint32_t> result(tex::compiler::wordCount(resultType, lanes) + 1, 0);
+  module->entry(fn)(nullptr, result.data(), &ctx);
+  ++jitComparisons;
+  Value jit = tex::compiler::unflatten(result.data(), resultType, lanes, &arena);
+  Value interp = evaluate(session.program(), fn, {}, group);
+  if (valuesAgree(jit, interp, resultType, lanes)) return {};
+  return std::string("JIT (") + mode + ", " + std::to_string(lanes) + " wavelengths) disagrees with the interpreter:\n  jit    " +
+         formatValue(jit, resultType, group) + "\n  interp " + formatValue(interp, resultType, group);
+}
+
 // Returns an empty string on success, else what went wrong.
 std::string runOne(const fs::path& file, const Expectation& x) {
   Session session;
@@ -125,7 +208,18 @@ std::string runOne(const fs::path& file, const Expectation& x) {
   std::string value = formatValue(v, f.resultType, group);
   std::string type = typeName(f.resultType);
   bool valueOk = x.approximate ? approximatelyEqual(value, x.value) : value == x.value;
-  if (valueOk && type == x.type) return {};
+  if (valueOk && type == x.type) {
+    // Differential testing: the JIT at both levels must agree with the interpreter.
+    for (auto opt : {tex::compiler::OptLevel::Quick, tex::compiler::OptLevel::O1}) {
+      std::string problem = differential(session, fn, opt, 4);
+      if (!problem.empty()) return problem;
+    }
+    if (containsSpectrum(f.resultType)) {
+      std::string problem = differential(session, fn, tex::compiler::OptLevel::O1, 8);
+      if (!problem.empty()) return problem;
+    }
+    return {};
+  }
   return "expected " + std::string(x.approximate ? "~" : "") + x.value + " : " + x.type + "\n  got      " + value + " : " + type;
 }
 
@@ -173,6 +267,7 @@ int main(int argc, char** argv) {
       std::printf("FAIL %s\n  %s\n", file.c_str(), result.c_str());
     }
   }
+  std::printf("(%d JIT runs agreed with the interpreter)\n", jitComparisons);
   std::printf("%d passed, %d failed\n", passed, failed);
   return failed == 0 && passed > 0 ? 0 : 1;
 }

@@ -1,0 +1,48 @@
+// The C ABI between compiled .tex code and its callers (docs/abi.md). Plain C layout: the
+// renderer includes this header and nothing of LLVM.
+#pragma once
+#include <cstdint>
+
+namespace tex::compiler {
+
+constexpr int kMaxWavelengths = 8;
+
+// One closure node of a Material value (docs/abi.md, "Materials"). Kinds grow with the
+// renderer's lobe set; unknown kinds are never produced by an older compiler.
+enum class ClosureKind : uint32_t { Diffuse = 1, Emission = 2, Mix = 3 };
+enum class ClosureParam : uint32_t { None = 0, Color = 1, Spectrum = 2 };
+
+struct ClosureNode {
+  ClosureKind kind;
+  ClosureParam paramKind;  // how `params` is to be read
+  int32_t a, b;            // Mix: child node indices
+  float weight;            // Mix: weight of b
+  float params[kMaxWavelengths];  // Color: 3 floats; Spectrum: one per wavelength
+};
+
+// A bump arena the compiled code appends closure nodes to; a Material value is an index.
+struct ClosureArena {
+  ClosureNode* nodes;
+  int32_t capacity;
+  int32_t count;     // reset to 0 by the caller before each evaluation
+  int32_t overflow;  // set when capacity was exceeded (the material is then invalid)
+};
+
+// Per-call context: the path's wavelengths (Spectrum lanes) and the closure arena.
+struct ShadingContext {
+  float lambdaNm[kMaxWavelengths];
+  int32_t wavelengthCount;  // must equal the lane count the code was compiled for
+  ClosureArena* arena;      // may be null if the code builds no Material
+};
+
+// The Hit record as flattened in argument buffers (fields in sorted name order).
+struct HitAbi {
+  float dpdx[3], dpdy[3], duvdx[2], duvdy[2], n[3], p[3], uv[2];
+};
+static_assert(sizeof(HitAbi) == 18 * 4, "Hit is 18 words");
+
+// Every compiled entry point: reads its arguments from `args` and writes its result to
+// `result`, both in the word layout of docs/abi.md.
+using EntryFn = void (*)(const void* args, void* result, const ShadingContext* ctx);
+
+}  // namespace tex::compiler

@@ -1,0 +1,20 @@
+// Internal to compiler/: a canonical text of the functions reachable from some entries,
+// independent of where they sit in the program (functions renumbered in discovery order,
+// types numbered by first use, constants as bit patterns). Cache keys hash it, and the
+// code-size estimate walks the same reachable set.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "lang/core_ir.h"
+
+namespace tex::compiler {
+
+std::string canonicalText(const lang::ir::Program& program, const std::vector<int>& entries);
+
+// IR nodes after inlining every call (folds count their body once): the specialised size.
+// Saturates instead of overflowing.
+uint64_t inlinedSize(const lang::ir::Program& program, int function);
+
+}  // namespace tex::compiler

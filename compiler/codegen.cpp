@@ -1,0 +1,498 @@
+// Lowers the typed core IR to LLVM IR (docs/abi.md). Float semantics follow
+// docs/language.md section 5: no fast-math flags, no FMA contraction, transcendental
+// functions are the C library's (the same the interpreter calls).
+#include "compiler/codegen.h"
+
+#include <llvm/IR/BasicBlock.h>
+#include <llvm/IR/Constants.h>
+#include <llvm/IR/DerivedTypes.h>
+#include <llvm/IR/IRBuilder.h>
+#include <llvm/IR/Intrinsics.h>
+#include <llvm/IR/Verifier.h>
+#include <llvm/Support/raw_ostream.h>
+
+#include <map>
+
+#include "compiler/abi.h"
+
+namespace tex::compiler {
+
+using lang::Type;
+using lang::TypeKind;
+using lang::ir::Node;
+using lang::ir::Prim;
+
+std::string entrySymbol(size_t entryIndex) { return "tex_entry_" + std::to_string(entryIndex); }
+
+namespace {
+
+class Codegen {
+ public:
+  Codegen(llvm::LLVMContext& c, const lang::ir::Program& p, const CodegenOptions& o)
+      : context_(c), program_(p), options_(o), module_(std::make_unique<llvm::Module>("tex", c)), b_(c) {
+    ptrTy_ = llvm::PointerType::get(c, 0);
+    f32_ = llvm::Type::getFloatTy(c);
+    i32_ = llvm::Type::getInt32Ty(c);
+    i1_ = llvm::Type::getInt1Ty(c);
+  }
+
+  std::unique_ptr<llvm::Module> run(const std::vector<int>& entries, std::string& error) {
+    for (size_t k = 0; k < entries.size(); ++k) {
+      llvm::Function* fn = function(entries[k]);
+      emitEntry(entries[k], fn, k);
+    }
+    // Bodies are generated on demand by function(); drain the queue.
+    while (!pending_.empty()) {
+      int index = pending_.back();
+      pending_.pop_back();
+      emitBody(index);
+    }
+    std::string message;
+    llvm::raw_string_ostream out(message);
+    if (llvm::verifyModule(*module_, &out)) {
+      error = "internal compiler error: generated LLVM IR is invalid: " + out.str();
+      return nullptr;
+    }
+    return std::move(module_);
+  }
+
+ private:
+  // ---- types ---------------------------------------------------------------------------
+  int lanes(const Type* t) const { return t->kind == TypeKind::Spectrum ? options_.wavelengths : t->fixedLanes(); }
+
+  llvm::Type* lower(const Type* t) {
+    switch (t->kind) {
+      case TypeKind::Bool: return i1_;
+      case TypeKind::Int: return i32_;
+      case TypeKind::Material: return i32_;
+      case TypeKind::Float: return f32_;
+      case TypeKind::Vec2:
+      case TypeKind::Vec3:
+      case TypeKind::Vec4:
+      case TypeKind::Color:
+      case TypeKind::Spectrum: return llvm::FixedVectorType::get(f32_, unsigned(lanes(t)));
+      case TypeKind::Record:
+      case TypeKind::Lambda: {
+        std::vector<llvm::Type*> fields;
+        for (auto& f : t->fields) fields.push_back(lower(f.second));
+        return llvm::StructType::get(context_, fields);
+      }
+      default: return llvm::StructType::get(context_, {});  // FuncRef, BuiltinRef: no data
+    }
+  }
+
+  // ---- functions -----------------------------------------------------------------------
+  llvm::Function* function(int index) {
+    if (auto it = functions_.find(index); it != functions_.end()) return it->second;
+    const lang::ir::Function& f = program_.functions[size_t(index)];
+    std::vector<llvm::Type*> params = {ptrTy_};
+    for (const Type* t : f.paramTypes) params.push_back(lower(t));
+    auto* type = llvm::FunctionType::get(lower(f.resultType), params, false);
+    std::string name = "f";
+    name += std::to_string(index);
+    auto* fn = llvm::Function::Create(type, llvm::Function::InternalLinkage, name, *module_);
+    fn->addFnAttr(llvm::Attribute::NoUnwind);
+    fn->addFnAttr(llvm::Attribute::WillReturn);
+    if (options_.inlineEverything) fn->addFnAttr(llvm::Attribute::AlwaysInline);
+    functions_[index] = fn;
+    pending_.push_back(index);
+    return fn;
+  }
+
+  void emitBody(int index) {
+    const lang::ir::Function& f = program_.functions[size_t(index)];
+    llvm::Function* fn = functions_[index];
+    auto* entry = llvm::BasicBlock::Create(context_, "entry", fn);
+    b_.SetInsertPoint(entry);
+    ctx_ = fn->getArg(0);
+    slots_.assign(size_t(std::max<int>(f.numSlots, int(f.paramTypes.size()))), nullptr);
+    for (size_t i = 0; i < f.paramTypes.size(); ++i) slots_[i] = fn->getArg(unsigned(i + 1));
+    llvm::Value* result = gen(f.body);
+    b_.CreateRet(result);
+  }
+
+  // The ABI wrapper: void tex_entry_k(ptr args, ptr result, ptr ctx).
+  void emitEntry(int index, llvm::Function* fn, size_t k) {
+    const lang::ir::Function& f = program_.functions[size_t(index)];
+    auto* type = llvm::FunctionType::get(llvm::Type::getVoidTy(context_), {ptrTy_, ptrTy_, ptrTy_}, false);
+    auto* wrapper = llvm::Function::Create(type, llvm::Function::ExternalLinkage, entrySymbol(k), *module_);
+    wrapper->addFnAttr(llvm::Attribute::NoUnwind);
+    auto* block = llvm::BasicBlock::Create(context_, "entry", wrapper);
+    b_.SetInsertPoint(block);
+    llvm::Value* args = wrapper->getArg(0);
+    std::vector<llvm::Value*> callArgs = {wrapper->getArg(2)};
+    unsigned word = 0;
+    for (const Type* t : f.paramTypes) callArgs.push_back(loadWords(args, t, word));
+    llvm::Value* result = b_.CreateCall(fn, callArgs);
+    word = 0;
+    storeWords(wrapper->getArg(1), f.resultType, result, word);
+    b_.CreateRetVoid();
+  }
+
+  llvm::Value* wordPtr(llvm::Value* base, unsigned word) { return b_.CreateConstInBoundsGEP1_32(i32_, base, word); }
+
+  llvm::Value* loadWords(llvm::Value* base, const Type* t, unsigned& word) {
+    switch (t->kind) {
+      case TypeKind::Bool: return b_.CreateICmpNE(b_.CreateLoad(i32_, wordPtr(base, word++)), b_.getInt32(0));
+      case TypeKind::Int:
+      case TypeKind::Material: return b_.CreateLoad(i32_, wordPtr(base, word++));
+      case TypeKind::Float: return b_.CreateLoad(f32_, wordPtr(base, word++));
+      case TypeKind::Record:
+      case TypeKind::Lambda: {
+        llvm::Value* v = llvm::PoisonValue::get(lower(t));
+        for (unsigned i = 0; i < t->fields.size(); ++i) v = b_.CreateInsertValue(v, loadWords(base, t->fields[i].second, word), {i});
+        return v;
+      }
+      default:
+        if (t->isFloatBased()) {
+          llvm::Value* v = llvm::PoisonValue::get(lower(t));
+          for (int i = 0; i < lanes(t); ++i) v = b_.CreateInsertElement(v, b_.CreateLoad(f32_, wordPtr(base, word++)), uint64_t(i));
+          return v;
+        }
+        return llvm::PoisonValue::get(lower(t));  // no data
+    }
+  }
+
+  void storeWords(llvm::Value* base, const Type* t, llvm::Value* v, unsigned& word) {
+    switch (t->kind) {
+      case TypeKind::Bool: b_.CreateStore(b_.CreateZExt(v, i32_), wordPtr(base, word++)); return;
+      case TypeKind::Int:
+      case TypeKind::Material:
+      case TypeKind::Float: b_.CreateStore(v, wordPtr(base, word++)); return;
+      case TypeKind::Record:
+      case TypeKind::Lambda:
+        for (unsigned i = 0; i < t->fields.size(); ++i) storeWords(base, t->fields[i].second, b_.CreateExtractValue(v, {i}), word);
+        return;
+      default:
+        if (t->isFloatBased())
+          for (int i = 0; i < lanes(t); ++i) b_.CreateStore(b_.CreateExtractElement(v, uint64_t(i)), wordPtr(base, word++));
+        return;
+    }
+  }
+
+  // ---- expressions ---------------------------------------------------------------------
+  llvm::Value* gen(const Node* n) {
+    switch (n->kind) {
+      case Node::Kind::Const: return constant(n);
+      case Node::Kind::Local: return slots_[size_t(n->slot)];
+      case Node::Kind::Let:
+        slots_[size_t(n->slot)] = gen(n->args[0]);
+        return gen(n->args[1]);
+      case Node::Kind::If: return genIf(n);
+      case Node::Kind::And:
+      case Node::Kind::Or: return genShortCircuit(n);
+      case Node::Kind::Prim: return genPrim(n);
+      case Node::Kind::Call: {
+        std::vector<llvm::Value*> args = {ctx_};
+        for (const Node* a : n->args) args.push_back(gen(a));
+        return b_.CreateCall(function(n->callee), args);
+      }
+      case Node::Kind::MakeRecord: {
+        llvm::Value* v = llvm::PoisonValue::get(lower(n->type));
+        for (unsigned i = 0; i < n->args.size(); ++i) v = b_.CreateInsertValue(v, gen(n->args[i]), {i});
+        return v;
+      }
+      case Node::Kind::GetField: return b_.CreateExtractValue(gen(n->args[0]), {unsigned(n->index)});
+      case Node::Kind::Fold: return genFold(n);
+    }
+    return llvm::PoisonValue::get(lower(n->type));
+  }
+
+  llvm::Value* constant(const Node* n) {
+    const Type* t = n->type;
+    if (t->kind == TypeKind::Int) return b_.getInt32(uint32_t(n->intValue));
+    if (t->kind == TypeKind::Bool) return b_.getInt1(n->boolValue);
+    if (t->kind == TypeKind::Float) return llvm::ConstantFP::get(f32_, double(n->floatValue[0]));
+    if (t->isFloatBased()) {
+      std::vector<llvm::Constant*> lanesValues;
+      for (int i = 0; i < lanes(t); ++i)
+        lanesValues.push_back(llvm::ConstantFP::get(f32_, double(n->floatValue[t->kind == TypeKind::Spectrum ? 0 : i])));
+      return llvm::ConstantVector::get(lanesValues);
+    }
+    return llvm::PoisonValue::get(lower(t));
+  }
+
+  llvm::Value* genIf(const Node* n) {
+    llvm::Value* cond = gen(n->args[0]);
+    llvm::Function* fn = b_.GetInsertBlock()->getParent();
+    auto* yes = llvm::BasicBlock::Create(context_, "then", fn);
+    auto* no = llvm::BasicBlock::Create(context_, "else", fn);
+    auto* done = llvm::BasicBlock::Create(context_, "endif", fn);
+    b_.CreateCondBr(cond, yes, no);
+    b_.SetInsertPoint(yes);
+    llvm::Value* a = gen(n->args[1]);
+    llvm::BasicBlock* yesEnd = b_.GetInsertBlock();
+    b_.CreateBr(done);
+    b_.SetInsertPoint(no);
+    llvm::Value* c = gen(n->args[2]);
+    llvm::BasicBlock* noEnd = b_.GetInsertBlock();
+    b_.CreateBr(done);
+    b_.SetInsertPoint(done);
+    llvm::PHINode* phi = b_.CreatePHI(lower(n->type), 2);
+    phi->addIncoming(a, yesEnd);
+    phi->addIncoming(c, noEnd);
+    return phi;
+  }
+
+  llvm::Value* genShortCircuit(const Node* n) {
+    bool isAnd = n->kind == Node::Kind::And;
+    llvm::Value* first = gen(n->args[0]);
+    llvm::BasicBlock* firstEnd = b_.GetInsertBlock();
+    llvm::Function* fn = firstEnd->getParent();
+    auto* rhs = llvm::BasicBlock::Create(context_, isAnd ? "and.rhs" : "or.rhs", fn);
+    auto* done = llvm::BasicBlock::Create(context_, isAnd ? "and.end" : "or.end", fn);
+    if (isAnd) b_.CreateCondBr(first, rhs, done);
+    else b_.CreateCondBr(first, done, rhs);
+    b_.SetInsertPoint(rhs);
+    llvm::Value* second = gen(n->args[1]);
+    llvm::BasicBlock* rhsEnd = b_.GetInsertBlock();
+    b_.CreateBr(done);
+    b_.SetInsertPoint(done);
+    llvm::PHINode* phi = b_.CreatePHI(i1_, 2);
+    phi->addIncoming(b_.getInt1(!isAnd), firstEnd);
+    phi->addIncoming(second, rhsEnd);
+    return phi;
+  }
+
+  llvm::Value* genFold(const Node* n) {
+    llvm::Value* count = gen(n->args[0]);
+    llvm::Value* init = gen(n->args[1]);
+    llvm::Value* closure = n->args.size() > 2 ? gen(n->args[2]) : nullptr;
+    llvm::Function* step = function(n->callee);
+    llvm::BasicBlock* pre = b_.GetInsertBlock();
+    llvm::Function* fn = pre->getParent();
+    auto* header = llvm::BasicBlock::Create(context_, "fold.header", fn);
+    auto* body = llvm::BasicBlock::Create(context_, "fold.body", fn);
+    auto* done = llvm::BasicBlock::Create(context_, "fold.end", fn);
+    b_.CreateBr(header);
+    b_.SetInsertPoint(header);
+    llvm::PHINode* i = b_.CreatePHI(i32_, 2, "i");
+    llvm::PHINode* acc = b_.CreatePHI(lower(n->type), 2, "acc");
+    i->addIncoming(b_.getInt32(0), pre);
+    acc->addIncoming(init, pre);
+    b_.CreateCondBr(b_.CreateICmpSLT(i, count), body, done);
+    b_.SetInsertPoint(body);
+    std::vector<llvm::Value*> args = {ctx_};
+    if (closure) args.push_back(closure);
+    args.push_back(acc);
+    args.push_back(i);
+    llvm::Value* next = b_.CreateCall(step, args);
+    llvm::BasicBlock* bodyEnd = b_.GetInsertBlock();
+    i->addIncoming(b_.CreateAdd(i, b_.getInt32(1), "", /*HasNUW=*/false, /*HasNSW=*/true), bodyEnd);
+    acc->addIncoming(next, bodyEnd);
+    b_.CreateBr(header);
+    b_.SetInsertPoint(done);
+    return acc;
+  }
+
+  llvm::Value* intrinsic(llvm::Intrinsic::ID id, std::vector<llvm::Value*> args) {
+    return b_.CreateIntrinsic(id, {args[0]->getType()}, args);
+  }
+
+  // Calls a float libm function lane by lane (for functions without an LLVM intrinsic).
+  llvm::Value* libmLanes(const char* name, std::vector<llvm::Value*> args) {
+    std::vector<llvm::Type*> params(args.size(), f32_);
+    llvm::FunctionCallee callee = module_->getOrInsertFunction(name, llvm::FunctionType::get(f32_, params, false));
+    if (auto* f = llvm::dyn_cast<llvm::Function>(callee.getCallee())) {
+      f->setDoesNotThrow();
+      f->setWillReturn();
+    }
+    llvm::Type* type = args[0]->getType();
+    if (!type->isVectorTy()) return b_.CreateCall(callee, args);
+    unsigned count = unsigned(llvm::cast<llvm::FixedVectorType>(type)->getNumElements());
+    llvm::Value* result = llvm::PoisonValue::get(type);
+    for (unsigned lane = 0; lane < count; ++lane) {
+      std::vector<llvm::Value*> laneArgs;
+      for (llvm::Value* a : args) laneArgs.push_back(b_.CreateExtractElement(a, uint64_t(lane)));
+      result = b_.CreateInsertElement(result, b_.CreateCall(callee, laneArgs), uint64_t(lane));
+    }
+    return result;
+  }
+
+  llvm::Value* floatConst(llvm::Type* like, float value) {
+    llvm::Constant* c = llvm::ConstantFP::get(f32_, double(value));
+    if (auto* vt = llvm::dyn_cast<llvm::FixedVectorType>(like)) return llvm::ConstantVector::getSplat(vt->getElementCount(), c);
+    return c;
+  }
+
+  llvm::Value* safeIntDivision(llvm::Value* a, llvm::Value* d, bool remainder) {
+    // x / 0 == 0 and x % 0 == 0; INT_MIN / -1 == INT_MIN and its % is 0 (docs/language.md 5).
+    llvm::Value* zero = b_.CreateICmpEQ(d, b_.getInt32(0));
+    llvm::Value* overflow = b_.CreateAnd(b_.CreateICmpEQ(a, b_.getInt32(0x80000000u)), b_.CreateICmpEQ(d, b_.getInt32(uint32_t(-1))));
+    llvm::Value* safe = b_.CreateSelect(b_.CreateOr(zero, overflow), b_.getInt32(1), d);
+    llvm::Value* q = remainder ? b_.CreateSRem(a, safe) : b_.CreateSDiv(a, safe);
+    llvm::Value* special = remainder ? static_cast<llvm::Value*>(b_.getInt32(0)) : b_.CreateSelect(zero, b_.getInt32(0), a);
+    return b_.CreateSelect(b_.CreateOr(zero, overflow), special, q);
+  }
+
+  llvm::Value* allLanesEqual(llvm::Value* x, llvm::Value* y) {
+    llvm::Value* eq = b_.CreateFCmpOEQ(x, y);
+    if (!eq->getType()->isVectorTy()) return eq;
+    return b_.CreateAndReduce(eq);
+  }
+
+  llvm::Value* genPrim(const Node* n) {
+    std::vector<llvm::Value*> a;
+    for (const Node* arg : n->args) a.push_back(gen(arg));
+    using ID = llvm::Intrinsic::ID;
+    switch (n->prim) {
+      case Prim::FAdd: return b_.CreateFAdd(a[0], a[1]);
+      case Prim::FSub: return b_.CreateFSub(a[0], a[1]);
+      case Prim::FMul: return b_.CreateFMul(a[0], a[1]);
+      case Prim::FDiv: return b_.CreateFDiv(a[0], a[1]);
+      case Prim::FRem: return b_.CreateFRem(a[0], a[1]);
+      case Prim::FNeg: return b_.CreateFNeg(a[0]);
+      case Prim::FMin: return intrinsic(ID(llvm::Intrinsic::minnum), a);
+      case Prim::FMax: return intrinsic(ID(llvm::Intrinsic::maxnum), a);
+      case Prim::FAbs: return intrinsic(ID(llvm::Intrinsic::fabs), a);
+      case Prim::FSign: {
+        llvm::Value* x = a[0];
+        llvm::Type* t = x->getType();
+        llvm::Value* zero = floatConst(t, 0.0f);
+        return b_.CreateSelect(b_.CreateFCmpOGT(x, zero), floatConst(t, 1.0f),
+                               b_.CreateSelect(b_.CreateFCmpOLT(x, zero), floatConst(t, -1.0f), x));
+      }
+      case Prim::FFloor: return intrinsic(ID(llvm::Intrinsic::floor), a);
+      case Prim::FCeil: return intrinsic(ID(llvm::Intrinsic::ceil), a);
+      case Prim::FTrunc: return intrinsic(ID(llvm::Intrinsic::trunc), a);
+      case Prim::FRound: return intrinsic(ID(llvm::Intrinsic::round), a);
+      case Prim::FSqrt: return intrinsic(ID(llvm::Intrinsic::sqrt), a);
+      case Prim::FExp: return libmLanes("expf", a);
+      case Prim::FExp2: return libmLanes("exp2f", a);
+      case Prim::FLog: return libmLanes("logf", a);
+      case Prim::FLog2: return libmLanes("log2f", a);
+      case Prim::FSin: return libmLanes("sinf", a);
+      case Prim::FCos: return libmLanes("cosf", a);
+      case Prim::FTan: return libmLanes("tanf", a);
+      case Prim::FAsin: return libmLanes("asinf", a);
+      case Prim::FAcos: return libmLanes("acosf", a);
+      case Prim::FAtan: return libmLanes("atanf", a);
+      case Prim::FSinh: return libmLanes("sinhf", a);
+      case Prim::FCosh: return libmLanes("coshf", a);
+      case Prim::FTanh: return libmLanes("tanhf", a);
+      case Prim::FPow: return libmLanes("powf", a);
+      case Prim::FAtan2: return libmLanes("atan2f", a);
+      case Prim::FStep: {
+        llvm::Type* t = a[1]->getType();
+        return b_.CreateSelect(b_.CreateFCmpOLT(a[1], a[0]), floatConst(t, 0.0f), floatConst(t, 1.0f));
+      }
+      case Prim::FLt: return b_.CreateFCmpOLT(a[0], a[1]);
+      case Prim::FLe: return b_.CreateFCmpOLE(a[0], a[1]);
+      case Prim::FGt: return b_.CreateFCmpOGT(a[0], a[1]);
+      case Prim::FGe: return b_.CreateFCmpOGE(a[0], a[1]);
+      case Prim::FEq: return allLanesEqual(a[0], a[1]);
+      case Prim::FNe: return b_.CreateNot(allLanesEqual(a[0], a[1]));
+      case Prim::FIsNan: return b_.CreateFCmpUNO(a[0], a[0]);
+      case Prim::FIsInf:
+        return b_.CreateFCmpOEQ(intrinsic(ID(llvm::Intrinsic::fabs), {a[0]}),
+                                llvm::ConstantFP::getInfinity(f32_));
+      case Prim::IAdd: return b_.CreateAdd(a[0], a[1]);
+      case Prim::ISub: return b_.CreateSub(a[0], a[1]);
+      case Prim::IMul: return b_.CreateMul(a[0], a[1]);
+      case Prim::IDiv: return safeIntDivision(a[0], a[1], false);
+      case Prim::IRem: return safeIntDivision(a[0], a[1], true);
+      case Prim::INeg: return b_.CreateSub(b_.getInt32(0), a[0]);
+      case Prim::IAnd: return b_.CreateAnd(a[0], a[1]);
+      case Prim::IOr: return b_.CreateOr(a[0], a[1]);
+      case Prim::IXor: return b_.CreateXor(a[0], a[1]);
+      case Prim::IShl: return b_.CreateShl(a[0], b_.CreateAnd(a[1], b_.getInt32(31)));
+      case Prim::IShr: return b_.CreateAShr(a[0], b_.CreateAnd(a[1], b_.getInt32(31)));
+      case Prim::INot: return b_.CreateNot(a[0]);
+      case Prim::IMin: return intrinsic(ID(llvm::Intrinsic::smin), a);
+      case Prim::IMax: return intrinsic(ID(llvm::Intrinsic::smax), a);
+      case Prim::IAbs: return b_.CreateIntrinsic(llvm::Intrinsic::abs, {i32_}, {a[0], b_.getInt1(false)});
+      case Prim::ILt: return b_.CreateICmpSLT(a[0], a[1]);
+      case Prim::ILe: return b_.CreateICmpSLE(a[0], a[1]);
+      case Prim::IGt: return b_.CreateICmpSGT(a[0], a[1]);
+      case Prim::IGe: return b_.CreateICmpSGE(a[0], a[1]);
+      case Prim::IEq: return b_.CreateICmpEQ(a[0], a[1]);
+      case Prim::INe: return b_.CreateICmpNE(a[0], a[1]);
+      case Prim::BNot: return b_.CreateNot(a[0]);
+      case Prim::BEq: return b_.CreateICmpEQ(a[0], a[1]);
+      case Prim::BNe: return b_.CreateICmpNE(a[0], a[1]);
+      case Prim::IntToFloat: return b_.CreateSIToFP(a[0], f32_);
+      case Prim::FloatToInt: return b_.CreateIntrinsic(llvm::Intrinsic::fptosi_sat, {i32_, f32_}, {a[0]});
+      case Prim::Splat: return b_.CreateVectorSplat(unsigned(lanes(n->type)), a[0]);
+      case Prim::Concat: {
+        llvm::Value* v = llvm::PoisonValue::get(lower(n->type));
+        uint64_t at = 0;
+        for (size_t k = 0; k < a.size(); ++k) {
+          if (!a[k]->getType()->isVectorTy()) {
+            v = b_.CreateInsertElement(v, a[k], at++);
+            continue;
+          }
+          int count = lanes(n->args[k]->type);
+          for (int i = 0; i < count; ++i) v = b_.CreateInsertElement(v, b_.CreateExtractElement(a[k], uint64_t(i)), at++);
+        }
+        return v;
+      }
+      case Prim::Swizzle: {
+        if (n->lanes.size() == 1) return b_.CreateExtractElement(a[0], uint64_t(n->lanes[0]));
+        std::vector<int> mask(n->lanes.begin(), n->lanes.end());
+        return b_.CreateShuffleVector(a[0], mask);
+      }
+      case Prim::Dot: {
+        int count = lanes(n->args[0]->type);
+        llvm::Value* sum = nullptr;
+        for (int i = 0; i < count; ++i) {
+          llvm::Value* p = b_.CreateFMul(b_.CreateExtractElement(a[0], uint64_t(i)), b_.CreateExtractElement(a[1], uint64_t(i)));
+          sum = sum ? b_.CreateFAdd(sum, p) : p;
+        }
+        return sum;
+      }
+      case Prim::Wavelengths: {
+        // ShadingContext.lambdaNm is its first member.
+        llvm::Value* v = llvm::PoisonValue::get(lower(n->type));
+        for (int i = 0; i < options_.wavelengths; ++i)
+          v = b_.CreateInsertElement(v, b_.CreateLoad(f32_, b_.CreateConstInBoundsGEP1_32(f32_, ctx_, unsigned(i))), uint64_t(i));
+        return v;
+      }
+      case Prim::MatDiffuse:
+      case Prim::MatEmission: {
+        const Type* paramType = n->args[0]->type;
+        int count = lanes(paramType);
+        llvm::AllocaInst* buffer = entryAlloca(llvm::ArrayType::get(f32_, kMaxWavelengths));
+        for (int i = 0; i < count; ++i)
+          b_.CreateStore(b_.CreateExtractElement(a[0], uint64_t(i)), b_.CreateConstInBoundsGEP2_32(buffer->getAllocatedType(), buffer, 0, unsigned(i)));
+        uint32_t kind = uint32_t(n->prim == Prim::MatDiffuse ? ClosureKind::Diffuse : ClosureKind::Emission);
+        uint32_t paramKind = uint32_t(paramType->kind == TypeKind::Color ? ClosureParam::Color : ClosureParam::Spectrum);
+        llvm::FunctionCallee leaf = module_->getOrInsertFunction(
+            "tex_rt_closure_leaf", llvm::FunctionType::get(i32_, {ptrTy_, i32_, i32_, ptrTy_, i32_}, false));
+        return b_.CreateCall(leaf, {ctx_, b_.getInt32(kind), b_.getInt32(paramKind), buffer, b_.getInt32(uint32_t(count))});
+      }
+      case Prim::MatMix: {
+        llvm::FunctionCallee mix = module_->getOrInsertFunction(
+            "tex_rt_closure_mix", llvm::FunctionType::get(i32_, {ptrTy_, i32_, i32_, f32_}, false));
+        return b_.CreateCall(mix, {ctx_, a[0], a[1], a[2]});
+      }
+    }
+    return llvm::PoisonValue::get(lower(n->type));
+  }
+
+  llvm::AllocaInst* entryAlloca(llvm::Type* type) {
+    llvm::Function* fn = b_.GetInsertBlock()->getParent();
+    llvm::IRBuilder<> entry(&fn->getEntryBlock(), fn->getEntryBlock().begin());
+    return entry.CreateAlloca(type);
+  }
+
+  llvm::LLVMContext& context_;
+  const lang::ir::Program& program_;
+  CodegenOptions options_;
+  std::unique_ptr<llvm::Module> module_;
+  llvm::IRBuilder<> b_;
+  llvm::Type *ptrTy_, *f32_, *i32_, *i1_;
+  std::map<int, llvm::Function*> functions_;
+  std::vector<int> pending_;
+  llvm::Value* ctx_ = nullptr;
+  std::vector<llvm::Value*> slots_;
+};
+
+}  // namespace
+
+std::unique_ptr<llvm::Module> generateModule(llvm::LLVMContext& context, const lang::ir::Program& program,
+                                             const std::vector<int>& entries, const CodegenOptions& options,
+                                             std::string& error) {
+  return Codegen(context, program, options).run(entries, error);
+}
+
+}  // namespace tex::compiler

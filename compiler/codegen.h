@@ -1,0 +1,32 @@
+// Internal to compiler/: lowers typed core IR to an LLVM module (one LLVM function per IR
+// function, plus one ABI wrapper `tex_entry_<k>` per requested entry).
+#pragma once
+#include <llvm/IR/LLVMContext.h>
+#include <llvm/IR/Module.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "lang/core_ir.h"
+
+namespace tex::compiler {
+
+struct CodegenOptions {
+  int wavelengths = 4;
+  bool inlineEverything = true;  // mark internal functions alwaysinline (O1)
+};
+
+std::string entrySymbol(size_t entryIndex);
+
+// Returns null and sets `error` if the program cannot be lowered (an internal error).
+std::unique_ptr<llvm::Module> generateModule(llvm::LLVMContext& context, const lang::ir::Program& program,
+                                             const std::vector<int>& entries, const CodegenOptions& options,
+                                             std::string& error);
+
+// The names of the runtime functions compiled code calls (bound as absolute symbols).
+extern "C" int32_t tex_rt_closure_leaf(const void* ctx, uint32_t kind, uint32_t paramKind, const float* params,
+                                       int32_t count);
+extern "C" int32_t tex_rt_closure_mix(const void* ctx, int32_t a, int32_t b, float weight);
+
+}  // namespace tex::compiler

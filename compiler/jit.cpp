@@ -1,0 +1,257 @@
+// compile(): specialised-size check, cache lookup, codegen, optimisation, object emission
+// and loading into ORC LLJIT (one JITDylib per compiled module, removed on unload).
+#include "compiler/jit.h"
+
+#include <llvm/ExecutionEngine/Orc/ExecutionUtils.h>
+#include <llvm/ExecutionEngine/Orc/JITTargetMachineBuilder.h>
+#include <llvm/ExecutionEngine/Orc/LLJIT.h>
+#include <llvm/IR/LegacyPassManager.h>
+#include <llvm/Passes/PassBuilder.h>
+#include <llvm/Support/MemoryBuffer.h>
+#include <llvm/Support/TargetSelect.h>
+#include <llvm/Target/TargetMachine.h>
+
+#include <atomic>
+#include <chrono>
+#include <map>
+#include <mutex>
+
+#include "compiler/canonical_ir.h"
+#include "compiler/codegen.h"
+#include "compiler/object_cache.h"
+
+namespace tex::compiler {
+
+namespace {
+
+constexpr const char* kCompilerVersion = "tex-compiler-1";
+
+std::string errorText(llvm::Error error) { return llvm::toString(std::move(error)); }
+
+// The process-wide JIT: created on first use, shared by every compiled module.
+struct Engine {
+  std::unique_ptr<llvm::orc::LLJIT> jit;
+  std::string error;
+  std::string cpu, features, triple;
+  std::atomic<uint64_t> counter{0};
+  std::mutex mutex;  // serialises JITDylib creation and removal
+
+  static Engine& get() {
+    static Engine engine;
+    return engine;
+  }
+
+ private:
+  Engine() {
+    llvm::InitializeNativeTarget();
+    llvm::InitializeNativeTargetAsmPrinter();
+    auto jtmb = llvm::orc::JITTargetMachineBuilder::detectHost();
+    if (!jtmb) {
+      error = errorText(jtmb.takeError());
+      return;
+    }
+    cpu = jtmb->getCPU();
+    features = jtmb->getFeatures().getString();
+    triple = jtmb->getTargetTriple().str();
+    auto created = llvm::orc::LLJITBuilder().setJITTargetMachineBuilder(*jtmb).create();
+    if (!created) {
+      error = errorText(created.takeError());
+      return;
+    }
+    jit = std::move(*created);
+    llvm::orc::JITDylib& main = jit->getMainJITDylib();
+    // The C library (sinf, powf, ...) as the interpreter uses it, and our runtime functions.
+    auto process = llvm::orc::DynamicLibrarySearchGenerator::GetForCurrentProcess(jit->getDataLayout().getGlobalPrefix());
+    if (!process) {
+      error = errorText(process.takeError());
+      return;
+    }
+    main.addGenerator(std::move(*process));
+    llvm::orc::SymbolMap runtime;
+    auto& es = jit->getExecutionSession();
+    runtime[es.intern("tex_rt_closure_leaf")] = {llvm::orc::ExecutorAddr::fromPtr(&tex_rt_closure_leaf),
+                                                 llvm::JITSymbolFlags::Exported | llvm::JITSymbolFlags::Callable};
+    runtime[es.intern("tex_rt_closure_mix")] = {llvm::orc::ExecutorAddr::fromPtr(&tex_rt_closure_mix),
+                                                llvm::JITSymbolFlags::Exported | llvm::JITSymbolFlags::Callable};
+    if (auto err = main.define(llvm::orc::absoluteSymbols(std::move(runtime)))) error = errorText(std::move(err));
+  }
+};
+
+// One target machine per thread and optimisation level: they are not shared across threads.
+llvm::TargetMachine* targetMachine(OptLevel opt, std::string& error) {
+  thread_local std::map<int, std::unique_ptr<llvm::TargetMachine>> machines;
+  auto& slot = machines[int(opt)];
+  if (!slot) {
+    auto jtmb = llvm::orc::JITTargetMachineBuilder::detectHost();
+    if (!jtmb) {
+      error = errorText(jtmb.takeError());
+      return nullptr;
+    }
+    jtmb->setCodeGenOptLevel(opt == OptLevel::Quick ? llvm::CodeGenOptLevel::None : llvm::CodeGenOptLevel::Less);
+    auto tm = jtmb->createTargetMachine();
+    if (!tm) {
+      error = errorText(tm.takeError());
+      return nullptr;
+    }
+    slot = std::move(*tm);
+  }
+  return slot.get();
+}
+
+void optimise(llvm::Module& module, llvm::TargetMachine* tm, OptLevel opt) {
+  llvm::LoopAnalysisManager lam;
+  llvm::FunctionAnalysisManager fam;
+  llvm::CGSCCAnalysisManager cgam;
+  llvm::ModuleAnalysisManager mam;
+  llvm::PassBuilder pb(tm);
+  pb.registerModuleAnalyses(mam);
+  pb.registerCGSCCAnalyses(cgam);
+  pb.registerFunctionAnalyses(fam);
+  pb.registerLoopAnalyses(lam);
+  pb.crossRegisterProxies(lam, fam, cgam, mam);
+  llvm::ModulePassManager mpm = opt == OptLevel::Quick ? pb.buildO0DefaultPipeline(llvm::OptimizationLevel::O0)
+                                                       : pb.buildPerModuleDefaultPipeline(llvm::OptimizationLevel::O1);
+  mpm.run(module, mam);
+}
+
+bool emitObject(llvm::Module& module, llvm::TargetMachine* tm, std::string& object, std::string& error) {
+  llvm::SmallVector<char, 0> buffer;
+  llvm::raw_svector_ostream out(buffer);
+  llvm::legacy::PassManager pm;
+  if (tm->addPassesToEmitFile(pm, out, nullptr, llvm::CodeGenFileType::ObjectFile)) {
+    error = "the target cannot emit object files";
+    return false;
+  }
+  pm.run(module);
+  object.assign(buffer.begin(), buffer.end());
+  return true;
+}
+
+lang::Span spanOf(const lang::ir::Program& program, const std::vector<int>& entries) {
+  return entries.empty() ? lang::Span{} : program.functions[size_t(entries[0])].span;
+}
+
+}  // namespace
+
+struct CompiledModule::Impl {
+  llvm::orc::JITDylib* dylib = nullptr;
+  std::map<int, EntryFn> entries;
+};
+
+CompiledModule::CompiledModule(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+
+CompiledModule::~CompiledModule() {
+  if (!impl_ || !impl_->dylib) return;
+  Engine& engine = Engine::get();
+  std::lock_guard<std::mutex> lock(engine.mutex);
+  if (auto err = engine.jit->getExecutionSession().removeJITDylib(*impl_->dylib)) llvm::consumeError(std::move(err));
+}
+
+EntryFn CompiledModule::entry(int function) const {
+  auto it = impl_->entries.find(function);
+  return it == impl_->entries.end() ? nullptr : it->second;
+}
+
+std::string hostCpuDescription() {
+  Engine& engine = Engine::get();
+  return engine.triple + " " + engine.cpu + " " + engine.features;
+}
+
+std::string cacheKey(const lang::ir::Program& program, const std::vector<int>& entries, const CompileOptions& options) {
+  std::string key = std::string(kCompilerVersion) + "\nllvm " + TEX_LLVM_VERSION + "\n" + hostCpuDescription() +
+                    "\nopt " + std::to_string(int(options.opt)) + " lanes " + std::to_string(options.wavelengths) + "\n";
+  return key + canonicalText(program, entries);
+}
+
+size_t wordCount(const lang::Type* type, int wavelengths) {
+  switch (type->kind) {
+    case lang::TypeKind::Bool:
+    case lang::TypeKind::Int:
+    case lang::TypeKind::Material:
+    case lang::TypeKind::Float: return 1;
+    case lang::TypeKind::Spectrum: return size_t(wavelengths);
+    case lang::TypeKind::Record:
+    case lang::TypeKind::Lambda: {
+      size_t n = 0;
+      for (auto& f : type->fields) n += wordCount(f.second, wavelengths);
+      return n;
+    }
+    default: return size_t(type->fixedLanes());
+  }
+}
+
+std::unique_ptr<CompiledModule> compile(const lang::ir::Program& program, const std::vector<int>& entries,
+                                        const CompileOptions& options, lang::Diagnostics& diags) {
+  auto start = std::chrono::steady_clock::now();
+  lang::Span at = spanOf(program, entries);
+  auto fail = [&](const std::string& code, const std::string& message, const std::string& help = {}) {
+    diags.error(code, at, message, help);
+    return std::unique_ptr<CompiledModule>();
+  };
+  if (options.wavelengths != 1 && options.wavelengths != 4 && options.wavelengths != 8)
+    return fail("E0501", "the compiler supports 1, 4 or 8 wavelengths, not " + std::to_string(options.wavelengths));
+  for (int e : entries) {
+    if (e < 0 || size_t(e) >= program.functions.size() || !program.functions[size_t(e)].body)
+      return fail("E0501", "internal compiler error: no such function to compile");
+    if (program.functions[size_t(e)].resultType->isError())
+      return fail("E0501", "internal compiler error: cannot compile a function with type errors");
+    uint64_t size = inlinedSize(program, e);
+    if (size > options.maxInlinedNodes)
+      return fail("E0413",
+                  "specialised code for '" + program.functions[size_t(e)].name + "' would have " + std::to_string(size) +
+                      " operations after inlining; the limit is " + std::to_string(options.maxInlinedNodes),
+                  "nested calls multiply: share intermediate results with let, or use fold instead of repeating calls");
+  }
+  Engine& engine = Engine::get();
+  if (!engine.jit) return fail("E0501", "the LLVM JIT could not start: " + engine.error);
+
+  CompileStats stats;
+  std::string key = cacheKey(program, entries, options);
+  std::string directory = cacheDirectory(options.cacheDir);
+  std::string object;
+  if (options.useCache) {
+    CacheLookup lookup = loadCachedObject(directory, key, object);
+    stats.cacheHit = lookup == CacheLookup::Hit;
+    stats.cacheRejected = lookup == CacheLookup::Rejected;
+  }
+  if (!stats.cacheHit) {
+    std::string error;
+    llvm::TargetMachine* tm = targetMachine(options.opt, error);
+    if (!tm) return fail("E0501", "LLVM target machine: " + error);
+    llvm::LLVMContext context;  // one per compile job: compiles may run in parallel threads
+    CodegenOptions codegen;
+    codegen.wavelengths = options.wavelengths;
+    codegen.inlineEverything = options.opt != OptLevel::Quick;
+    std::unique_ptr<llvm::Module> module = generateModule(context, program, entries, codegen, error);
+    if (!module) return fail("E0501", error);
+    module->setDataLayout(tm->createDataLayout());
+    module->setTargetTriple(tm->getTargetTriple().str());
+    optimise(*module, tm, options.opt);
+    if (!emitObject(*module, tm, object, error)) return fail("E0501", "LLVM code generation: " + error);
+    if (options.useCache) storeCachedObject(directory, key, object);
+  }
+  stats.objectBytes = object.size();
+
+  auto impl = std::make_unique<CompiledModule::Impl>();
+  {
+    std::lock_guard<std::mutex> lock(engine.mutex);
+    auto dylib = engine.jit->createJITDylib("tex" + std::to_string(engine.counter++));
+    if (!dylib) return fail("E0501", "LLVM JIT: " + errorText(dylib.takeError()));
+    impl->dylib = &*dylib;
+    impl->dylib->addToLinkOrder(engine.jit->getMainJITDylib());
+  }
+  auto buffer = llvm::MemoryBuffer::getMemBufferCopy(object, "tex-object");
+  auto result = std::unique_ptr<CompiledModule>(new CompiledModule(std::move(impl)));
+  if (auto err = engine.jit->addObjectFile(*result->impl_->dylib, std::move(buffer)))
+    return fail("E0501", "LLVM JIT: " + errorText(std::move(err)));
+  for (size_t k = 0; k < entries.size(); ++k) {
+    auto address = engine.jit->lookup(*result->impl_->dylib, entrySymbol(k));
+    if (!address) return fail("E0501", "LLVM JIT: " + errorText(address.takeError()));
+    result->impl_->entries[entries[k]] = address->toPtr<EntryFn>();
+  }
+  stats.milliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  result->stats_ = stats;
+  return result;
+}
+
+}  // namespace tex::compiler

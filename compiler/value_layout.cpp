@@ -1,0 +1,91 @@
+#include "compiler/value_layout.h"
+
+#include <cstring>
+
+namespace tex::compiler {
+
+using lang::Type;
+using lang::TypeKind;
+using lang::Value;
+
+namespace {
+
+uint32_t floatBits(float f) {
+  uint32_t u;
+  std::memcpy(&u, &f, 4);
+  return u;
+}
+float bitsFloat(uint32_t u) {
+  float f;
+  std::memcpy(&f, &u, 4);
+  return f;
+}
+int lanes(const Type* t, int wavelengths) { return t->kind == TypeKind::Spectrum ? wavelengths : t->fixedLanes(); }
+
+std::shared_ptr<const lang::MaterialNode> materialFromArena(const ClosureArena* arena, int32_t index, int wavelengths,
+                                                            int depth) {
+  if (!arena || index < 0 || index >= arena->count || depth > 64) return nullptr;
+  const ClosureNode& node = arena->nodes[index];
+  auto m = std::make_shared<lang::MaterialNode>();
+  auto& types = lang::TypeTable::global();
+  switch (node.kind) {
+    case ClosureKind::Diffuse:
+    case ClosureKind::Emission: {
+      m->kind = node.kind == ClosureKind::Diffuse ? lang::MaterialNode::Kind::Diffuse : lang::MaterialNode::Kind::Emission;
+      m->paramType = node.paramKind == ClosureParam::Color ? types.color() : types.spectrum();
+      int n = node.paramKind == ClosureParam::Color ? 3 : wavelengths;
+      for (int i = 0; i < n; ++i) m->param.f[i] = node.params[i];
+      break;
+    }
+    case ClosureKind::Mix:
+      m->kind = lang::MaterialNode::Kind::Mix;
+      m->a = materialFromArena(arena, node.a, wavelengths, depth + 1);
+      m->b = materialFromArena(arena, node.b, wavelengths, depth + 1);
+      m->weight = node.weight;
+      break;
+  }
+  return m;
+}
+
+}  // namespace
+
+void flatten(const Value& value, const Type* type, int wavelengths, std::vector<uint32_t>& words) {
+  switch (type->kind) {
+    case TypeKind::Bool:
+    case TypeKind::Int: words.push_back(uint32_t(value.i)); return;
+    case TypeKind::Material: words.push_back(uint32_t(-1)); return;  // materials are outputs only
+    case TypeKind::Record:
+    case TypeKind::Lambda:
+      for (size_t i = 0; i < type->fields.size(); ++i)
+        flatten(value.fields ? (*value.fields)[i] : Value{}, type->fields[i].second, wavelengths, words);
+      return;
+    default:
+      for (int i = 0; i < lanes(type, wavelengths); ++i) words.push_back(floatBits(value.f[i]));
+  }
+}
+
+static Value unflattenAt(const uint32_t* words, size_t& at, const Type* type, int wavelengths, const ClosureArena* arena) {
+  Value v;
+  switch (type->kind) {
+    case TypeKind::Bool: v.i = words[at++] != 0; return v;
+    case TypeKind::Int: v.i = int32_t(words[at++]); return v;
+    case TypeKind::Material: v.material = materialFromArena(arena, int32_t(words[at++]), wavelengths, 0); return v;
+    case TypeKind::Record:
+    case TypeKind::Lambda: {
+      auto fields = std::make_shared<std::vector<Value>>();
+      for (auto& f : type->fields) fields->push_back(unflattenAt(words, at, f.second, wavelengths, arena));
+      v.fields = std::move(fields);
+      return v;
+    }
+    default:
+      for (int i = 0; i < lanes(type, wavelengths); ++i) v.f[i] = bitsFloat(words[at++]);
+      return v;
+  }
+}
+
+Value unflatten(const uint32_t* words, const Type* type, int wavelengths, const ClosureArena* arena) {
+  size_t at = 0;
+  return unflattenAt(words, at, type, wavelengths, arena);
+}
+
+}  // namespace tex::compiler
