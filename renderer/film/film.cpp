@@ -3,6 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
@@ -30,15 +34,64 @@ inline int64_t toFixed(double x) {
 }
 inline double fromFixed(int64_t x) { return double(x) / kFixedScale; }
 
-// Layout of one pixel's sums.
+// Adds toFixed(v[k]) to s[k] for k = 0..3. The SSE2 path converts two values per instruction
+// with the 1.5 * 2^52 trick, which rounds to nearest even exactly like cvtsd2si (and toFixed)
+// for |scaled| < 2^51; anything larger (or NaN) takes the scalar toFixed, so the integers added
+// are the same as toFixed's in every case.
+inline void addFixed4(int64_t* s, double v0, double v1, double v2, double v3) {
+#if defined(__SSE2__)
+  const __m128d scale = _mm_set1_pd(kFixedScale);
+  const __m128d lo = _mm_mul_pd(_mm_set_pd(v1, v0), scale), hi = _mm_mul_pd(_mm_set_pd(v3, v2), scale);
+  const __m128d limit = _mm_set1_pd(0x1p51), absMask = _mm_castsi128_pd(_mm_set1_epi64x(0x7fffffffffffffffll));
+  // Ordered-and-small in all four lanes (a NaN compares false, so it takes the slow path).
+  const int small = _mm_movemask_pd(_mm_cmplt_pd(_mm_and_pd(lo, absMask), limit)) &
+                    _mm_movemask_pd(_mm_cmplt_pd(_mm_and_pd(hi, absMask), limit));
+  if (__builtin_expect(small == 3, 1)) {
+    const __m128d magic = _mm_set1_pd(0x1.8p52);
+    const __m128i magicBits = _mm_castpd_si128(magic);
+    const __m128i fixedLo = _mm_sub_epi64(_mm_castpd_si128(_mm_add_pd(lo, magic)), magicBits);
+    const __m128i fixedHi = _mm_sub_epi64(_mm_castpd_si128(_mm_add_pd(hi, magic)), magicBits);
+    __m128i* p = reinterpret_cast<__m128i*>(s);
+    _mm_storeu_si128(p, _mm_add_epi64(_mm_loadu_si128(p), fixedLo));
+    _mm_storeu_si128(p + 1, _mm_add_epi64(_mm_loadu_si128(p + 1), fixedHi));
+    return;
+  }
+#endif
+  s[0] += toFixed(v0), s[1] += toFixed(v1), s[2] += toFixed(v2), s[3] += toFixed(v3);
+}
+
+// Layout of one pixel's sums (colour films; a scalar film keeps kSumA, kSumA2, then one a c and
+// one a c^2 at kScalarAC, kScalarAC2).
 enum : int { kSumA = 0, kSumA2 = 1, kSumAC = 2, kSumAC2 = 5, kSumBins = 8 };
+enum : int { kScalarAC = 2, kScalarAC2 = 3, kScalarStride = 4 };
+
+constexpr size_t kHugePage = size_t(1) << 21;
 
 }  // namespace
 
+void* FilmMemory::allocate(size_t bytes) {
+  if (bytes < kHugePage) return ::operator new(bytes);
+  const size_t rounded = (bytes + kHugePage - 1) & ~(kHugePage - 1);
+  void* p = std::aligned_alloc(kHugePage, rounded);
+  if (p == nullptr) throw std::bad_alloc();
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+  madvise(p, rounded, MADV_HUGEPAGE);  // advice only: failure leaves ordinary pages
+#endif
+  return p;
+}
+
+void FilmMemory::deallocate(void* p, size_t bytes) {
+  if (bytes < kHugePage) {
+    ::operator delete(p);
+  } else {
+    std::free(p);
+  }
+}
+
 FilmAccumulator::FilmAccumulator(const FilmSettings& settings)
-    : settings_(settings), filter_(settings.filter), stride_(kSumBins + std::max(0, settings.spectralBins)) {
-  settings_.spectralBins = std::max(0, settings.spectralBins);
-  if (settings_.valueKind == ValueKind::Scalar) settings_.spectralBins = 0, stride_ = kSumBins;
+    : settings_(settings), filter_(settings.filter), scalar_(settings.valueKind == ValueKind::Scalar) {
+  settings_.spectralBins = scalar_ ? 0 : std::max(0, settings.spectralBins);
+  stride_ = scalar_ ? kScalarStride : kSumBins + settings_.spectralBins;
   sums_.assign(size_t(std::max(0, settings_.width)) * std::max(0, settings_.height) * stride_, 0);
   binScratch_.assign(settings_.spectralBins, 0.0f);
 }
@@ -46,7 +99,6 @@ FilmAccumulator::FilmAccumulator(const FilmSettings& settings)
 void FilmAccumulator::clear() { std::fill(sums_.begin(), sums_.end(), 0); }
 
 FilmAccumulator::Colour FilmAccumulator::colourOf(const SampleRecord& r) const {
-  if (settings_.valueKind == ValueKind::Scalar) return {{r.values[0], r.values[0], r.values[0]}};
   const int n = std::min<int>(r.wavelengthCount, color::kMaxWavelengths);
   const color::Rgb rgb = color::xyzToLinearSrgb(color::xyzFromRadianceOverPdf(r.lambdaNm.data(), r.values.data(), n));
   return {{rgb.r, rgb.g, rgb.b}};
@@ -64,20 +116,97 @@ inline void FilmAccumulator::splat(int px, int py, float a, const Colour& colour
   for (int b = 0; b < settings_.spectralBins; ++b) s[kSumBins + b] += toFixed(double(a) * bins[b]);
 }
 
+inline void FilmAccumulator::splatScalar(int px, int py, float a, float value) {
+  const double ac = double(a) * value;
+  addFixed4(&sums_[(size_t(py) * settings_.width + px) * kScalarStride], a, double(a) * a, ac, ac * value);
+}
+
 void FilmAccumulator::add(const SampleRecord& r) {
+  if (scalar_ && settings_.filter == FilterKind::Box) {
+    addScalarBox(&r, 1);
+  } else {
+    addGeneral(r);
+  }
+}
+
+void FilmAccumulator::add(const SampleRecord* records, size_t count) {
+  if (scalar_ && settings_.filter == FilterKind::Box) {
+    addScalarBox(records, count);
+    return;
+  }
+  for (size_t i = 0; i < count; ++i) {
+    // Records of a chunk are spread over the whole film (that is the stratification), so
+    // fetch the next records' pixels early.
+    if (i + 8 < count && settings_.filter == FilterKind::Box && settings_.width > 0 && settings_.height > 0) {
+      const SampleRecord& ahead = records[i + 8];
+      const int px = std::clamp(int(ahead.filmX * settings_.width), 0, settings_.width - 1);
+      const int py = std::clamp(int(ahead.filmY * settings_.height), 0, settings_.height - 1);
+      __builtin_prefetch(&sums_[(size_t(py) * settings_.width + px) * stride_], 1);
+    }
+    addGeneral(records[i]);
+  }
+}
+
+// The common fast path (box filter, grey values): every record adds to one pixel. Two passes
+// over the batch: first the pixel of every record, then the sums, fetching the pixel of the
+// record kAhead places on while converting the current one (records of a chunk are spread over
+// the whole film, which is the stratification, so nearly every record misses the cache).
+void FilmAccumulator::addScalarBox(const SampleRecord* records, size_t count) {
+  const int width = settings_.width, height = settings_.height;
+  if (width <= 0 || height <= 0 || count == 0) return;
+  constexpr uint32_t kOffFilm = 0xffffffffu;
+  constexpr size_t kBatch = 4096, kAhead = 12;
+  const float fw = float(width), fh = float(height);
+  int64_t* const sums = sums_.data();
+  if (pixelScratch_.size() < kBatch) pixelScratch_.resize(kBatch);
+  uint32_t* const pixel = pixelScratch_.data();
+  for (size_t first = 0; first < count; first += kBatch) {
+    const SampleRecord* batch = records + first;
+    const size_t n = std::min(kBatch, count - first);
+    for (size_t i = 0; i < n; ++i) {
+      const float fx = batch[i].filmX, fy = batch[i].filmY;
+      const bool onFilm = fx >= 0.0f && fx < 1.0f && fy >= 0.0f && fy < 1.0f;  // false for NaN
+      const int px = std::min(int(onFilm ? fx * fw : 0.0f), width - 1), py = std::min(int(onFilm ? fy * fh : 0.0f), height - 1);
+      pixel[i] = onFilm ? uint32_t(py) * uint32_t(width) + uint32_t(px) : kOffFilm;
+    }
+    for (size_t i = 0; i < n; ++i) {
+      if (i + kAhead < n) {
+        const uint32_t ahead = pixel[i + kAhead];
+        if (ahead != kOffFilm) __builtin_prefetch(sums + size_t(ahead) * kScalarStride, 1);
+      }
+      const uint32_t p = pixel[i];
+      if (p == kOffFilm) continue;
+      const SampleRecord& r = batch[i];
+      const double a = r.weight, ac = a * r.values[0];
+      addFixed4(sums + size_t(p) * kScalarStride, a, a * a, ac, ac * r.values[0]);
+    }
+  }
+}
+
+void FilmAccumulator::addGeneral(const SampleRecord& r) {
   const int width = settings_.width, height = settings_.height;
   if (width <= 0 || height <= 0) return;
   if (!(r.filmX >= 0.0f && r.filmX < 1.0f && r.filmY >= 0.0f && r.filmY < 1.0f)) return;  // off film or NaN
   const float x = r.filmX * float(width), y = r.filmY * float(height);  // pixel units
-  if (settings_.filter == FilterKind::Box && settings_.valueKind == ValueKind::Scalar) {
-    // The common fast path: one pixel, one grey value.
-    const int px = std::min(int(x), width - 1), py = std::min(int(y), height - 1);
-    int64_t* s = &sums_[(size_t(py) * width + px) * stride_];
-    const double a = r.weight, ac = a * r.values[0];
-    const int64_t fa = toFixed(a), fa2 = toFixed(a * a), fac = toFixed(ac), fac2 = toFixed(ac * r.values[0]);
-    s[kSumA] += fa, s[kSumA2] += fa2;
-    s[kSumAC] += fac, s[kSumAC + 1] += fac, s[kSumAC + 2] += fac;
-    s[kSumAC2] += fac2, s[kSumAC2 + 1] += fac2, s[kSumAC2 + 2] += fac2;
+  if (scalar_) {
+    const float value = r.values[0];
+    if (settings_.filter == FilterKind::Box) {
+      splatScalar(std::min(int(x), width - 1), std::min(int(y), height - 1), r.weight, value);
+      return;
+    }
+    const float radius = filter_.radiusPixels();
+    const int x0 = std::max(0, int(std::ceil(x - 0.5f - radius))), x1 = std::min(width - 1, int(std::floor(x - 0.5f + radius)));
+    const int y0 = std::max(0, int(std::ceil(y - 0.5f - radius))), y1 = std::min(height - 1, int(std::floor(y - 0.5f + radius)));
+    float wx[8];
+    for (int px = x0; px <= x1 && px - x0 < 8; ++px) wx[px - x0] = filter_.evaluate1d(x - (float(px) + 0.5f));
+    for (int py = y0; py <= y1; ++py) {
+      const float wy = filter_.evaluate1d(y - (float(py) + 0.5f)) * r.weight;
+      if (wy == 0.0f) continue;
+      for (int px = x0; px <= x1 && px - x0 < 8; ++px) {
+        const float a = wx[px - x0] * wy;
+        if (a != 0.0f) splatScalar(px, py, a, value);
+      }
+    }
     return;
   }
   const Colour colour = colourOf(r);
@@ -113,20 +242,6 @@ void FilmAccumulator::add(const SampleRecord& r) {
   }
 }
 
-void FilmAccumulator::add(const SampleRecord* records, size_t count) {
-  for (size_t i = 0; i < count; ++i) {
-    // Records of a chunk are spread over the whole film (that is the stratification), so
-    // fetch the next records' pixels early.
-    if (i + 8 < count && settings_.filter == FilterKind::Box) {
-      const SampleRecord& ahead = records[i + 8];
-      const int px = std::clamp(int(ahead.filmX * settings_.width), 0, settings_.width - 1);
-      const int py = std::clamp(int(ahead.filmY * settings_.height), 0, settings_.height - 1);
-      __builtin_prefetch(&sums_[(size_t(py) * settings_.width + px) * stride_], 1);
-    }
-    add(records[i]);
-  }
-}
-
 std::string FilmAccumulator::merge(const FilmAccumulator& other) {
   if (other.settings_.width != settings_.width || other.settings_.height != settings_.height ||
       other.stride_ != stride_ || other.settings_.filter != settings_.filter) {
@@ -157,9 +272,10 @@ DevelopedImage FilmAccumulator::develop(FilmEstimator estimator, uint64_t sample
     if (sumA == 0.0) continue;
     const double nEff = sumA2 > 0 ? sumA * sumA / sumA2 : 0.0;
     for (int k = 0; k < 3; ++k) {
-      const double mean = fromFixed(s[kSumAC + k]) / sumA;
-      const double secondMoment = fromFixed(s[kSumAC2 + k]) / sumA;
-      const double value = estimator == FilmEstimator::Weighted ? mean : fromFixed(s[kSumAC + k]) * densityScale;
+      const int64_t sumAC = scalar_ ? s[kScalarAC] : s[kSumAC + k], sumAC2 = scalar_ ? s[kScalarAC2] : s[kSumAC2 + k];
+      const double mean = fromFixed(sumAC) / sumA;
+      const double secondMoment = fromFixed(sumAC2) / sumA;
+      const double value = estimator == FilmEstimator::Weighted ? mean : fromFixed(sumAC) * densityScale;
       image.rgb[p * 3 + k] = float(value);
       image.variance[p * 3 + k] = nEff > 1.0 ? float(std::max(0.0, secondMoment - mean * mean) / (nEff - 1.0)) : 0.0f;
     }

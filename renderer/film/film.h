@@ -5,14 +5,17 @@
 //
 // Per pixel it keeps, with a = filter(x - centre) * record weight and c the record's colour
 // (linear sRGB, or grey for scalar records): sum a, sum a^2, sum a c, sum a c^2 per colour
-// channel, and sum a s_b per spectral bin. Developing gives
+// channel, and sum a s_b per spectral bin. A scalar film keeps one grey channel (4 sums per
+// pixel, 32 bytes) instead of three equal ones. Developing gives
 //   colour    = sum a c / sum a                          (the weighted estimator), or
 //             = sum a c * (W H / N)                      (the density estimator, N samples),
 //   variance  = (sum a c^2 / sum a - colour^2) / (n_eff - 1),  n_eff = (sum a)^2 / sum a^2,
 // an estimate of the variance of the pixel value (it treats samples as independent, so it
 // overestimates the error of QMC samples).
 #pragma once
+#include <cstddef>
 #include <cstdint>
+#include <new>
 #include <string>
 #include <vector>
 
@@ -49,6 +52,25 @@ struct DevelopedImage {
   std::vector<float> relativeVarianceThumbnail(int maxSize, int& thumbWidth, int& thumbHeight) const;
 };
 
+// The allocator of the film's sums: blocks of 2 MB and more are 2 MB aligned and advised as
+// transparent huge pages (Linux), so that splatting at random positions over a large film does
+// not also miss the TLB on every record. Smaller blocks use the ordinary allocator.
+struct FilmMemory {
+  static void* allocate(size_t bytes);
+  static void deallocate(void* p, size_t bytes);
+};
+template <class T>
+struct FilmAllocator {
+  using value_type = T;
+  FilmAllocator() = default;
+  template <class U>
+  FilmAllocator(const FilmAllocator<U>&) {}
+  T* allocate(size_t n) { return static_cast<T*>(FilmMemory::allocate(n * sizeof(T))); }
+  void deallocate(T* p, size_t n) { FilmMemory::deallocate(p, n * sizeof(T)); }
+  friend bool operator==(const FilmAllocator&, const FilmAllocator&) { return true; }
+};
+using FilmSums = std::vector<int64_t, FilmAllocator<int64_t>>;
+
 class FilmAccumulator {
  public:
   explicit FilmAccumulator(const FilmSettings& settings);
@@ -64,7 +86,7 @@ class FilmAccumulator {
   DevelopedImage develop(FilmEstimator estimator = FilmEstimator::Weighted, uint64_t samples = 0) const;
 
   // The raw fixed-point sums (for bit-identity tests).
-  const std::vector<int64_t>& sums() const { return sums_; }
+  const FilmSums& sums() const { return sums_; }
   int sumsPerPixel() const { return stride_; }
 
  private:
@@ -72,13 +94,18 @@ class FilmAccumulator {
     float c[3];
   };
   Colour colourOf(const SampleRecord& r) const;
+  void addGeneral(const SampleRecord& record);
+  void addScalarBox(const SampleRecord* records, size_t count);
   void splat(int px, int py, float a, const Colour& colour, const float* bins);
+  void splatScalar(int px, int py, float a, float value);
 
   FilmSettings settings_;
   Filter filter_;
-  int stride_;  // int64 sums per pixel: 2 + 3 + 3 + bins
-  std::vector<int64_t> sums_;
+  bool scalar_;  // one grey channel: sums a, a^2, a c, a c^2
+  int stride_;   // int64 sums per pixel: scalar 4, else 2 + 3 + 3 + bins
+  FilmSums sums_;
   std::vector<float> binScratch_;
+  std::vector<uint32_t> pixelScratch_;  // the scalar box path's pixel offsets of one batch
 };
 
 }  // namespace tex
