@@ -13,6 +13,8 @@
 
 #include "cli/command.h"
 #include "cli/options.h"
+#include "compiler/jit.h"
+#include "compiler/value_layout.h"
 #include "lang/interpreter.h"
 #include "lang/parser.h"
 #include "lang/session.h"
@@ -21,10 +23,11 @@ namespace tex::cli {
 namespace {
 
 const char* kHelp =
-    "usage: tex repl [-I DIR]...\n\n"
+    "usage: tex repl [-I DIR]... [--interp]\n\n"
     "Reads definitions (fn, let, type, import) and expressions; prints each expression's value\n"
     "and type. Input continues on the next line while brackets are open or an expression is\n"
-    "unfinished. Works with piped input: `echo '1 + 2' | tex repl` prints `3 : Int`.\n\n"
+    "unfinished. Works with piped input: `echo '1 + 2' | tex repl` prints `3 : Int`.\n"
+    "Expressions are compiled by the LLVM JIT in quick mode; --interp uses the interpreter.\n\n"
     "Commands:\n"
     "  :type EXPR       show the type of EXPR without evaluating it\n"
     "  :ir EXPR         show the typed core IR of EXPR\n"
@@ -45,7 +48,8 @@ struct HitContext {
 
 class Repl {
  public:
-  Repl(lang::SessionOptions options, bool interactive) : options_(std::move(options)), interactive_(interactive) {
+  Repl(lang::SessionOptions options, bool interactive, bool interpret)
+      : options_(std::move(options)), interactive_(interactive), interpret_(interpret) {
     reset();
   }
 
@@ -132,7 +136,8 @@ class Repl {
     int fn = compile(text, true);
     if (fn < 0) return;
     const lang::ir::Function& f = session_->program().functions[size_t(fn)];
-    lang::Value v = lang::evaluate(session_->program(), fn, {hitValue()}, hit_.group);
+    lang::Value v;
+    if (!run(fn, v)) return;
     std::printf("%s : %s\n", lang::formatValue(v, f.resultType, hit_.group).c_str(), lang::typeName(f.resultType).c_str());
     std::fflush(stdout);
   }
@@ -170,6 +175,47 @@ class Repl {
       sawError_ = true;
     }
     std::fflush(stdout);
+    return true;
+  }
+
+  // Evaluates a compiled REPL expression (a function of `hit`): JIT in quick mode, or the
+  // interpreter. The compiled code is unloaded right after.
+  bool run(int fn, lang::Value& out) {
+    if (interpret_) {
+      out = lang::evaluate(session_->program(), fn, {hitValue()}, hit_.group);
+      return true;
+    }
+    compiler::CompileOptions options;
+    options.opt = compiler::OptLevel::Quick;
+    options.useCache = false;  // REPL lines are one-offs: keep them out of the cache
+    options.wavelengths = hit_.group.count;
+    if (options.wavelengths != 1 && options.wavelengths != 4 && options.wavelengths != 8) {
+      out = lang::evaluate(session_->program(), fn, {hitValue()}, hit_.group);  // the JIT has 1, 4 or 8 lanes
+      return true;
+    }
+    auto module = compiler::compile(session_->program(), {fn}, options, session_->diags());
+    if (!module) {
+      printNewDiagnostics();
+      return false;
+    }
+    const lang::Type* hitType = lang::TypeTable::global().hit();
+    std::vector<uint32_t> args;
+    compiler::flatten(hitValue(), hitType, options.wavelengths, args);
+    const lang::Type* resultType = session_->program().functions[size_t(fn)].resultType;
+    std::vector<uint32_t> result(compiler::wordCount(resultType, options.wavelengths) + 1, 0);
+    std::vector<compiler::ClosureNode> nodes(1024);
+    compiler::ClosureArena arena{nodes.data(), int32_t(nodes.size()), 0, 0};
+    compiler::ShadingContext ctx{};
+    for (int i = 0; i < hit_.group.count; ++i) ctx.lambdaNm[i] = hit_.group.lambdaNm[i];
+    ctx.wavelengthCount = hit_.group.count;
+    ctx.arena = &arena;
+    module->entry(fn)(args.data(), result.data(), &ctx);
+    if (arena.overflow) {
+      std::fprintf(stderr, "error: the material has more than %zu closure nodes\n", nodes.size());
+      sawError_ = true;
+      return false;
+    }
+    out = compiler::unflatten(result.data(), resultType, options.wavelengths, &arena);
     return true;
   }
 
@@ -241,6 +287,7 @@ class Repl {
 
   lang::SessionOptions options_;
   bool interactive_;
+  bool interpret_;
   std::unique_ptr<lang::Session> session_;
   HitContext hit_;
   int inputs_ = 0;
@@ -254,13 +301,15 @@ int runRepl(const Args& args) {
     return 0;
   }
   lang::SessionOptions options;
+  bool interpret = false;
   for (size_t i = 0; i < args.size(); ++i) {
     if (args[i] == "-I" && i + 1 < args.size()) options.searchPath.push_back(args[++i]);
+    else if (args[i] == "--interp") interpret = true;
     else return usageError("repl", "unknown option '" + args[i] + "'");
   }
   bool interactive = isatty(STDIN_FILENO) && isatty(STDOUT_FILENO);
   if (interactive) std::printf("tex repl — :help for commands, :quit or Ctrl-D to leave\n");
-  return Repl(options, interactive).run();
+  return Repl(options, interactive, interpret).run();
 }
 
 }  // namespace

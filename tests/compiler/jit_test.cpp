@@ -1,0 +1,261 @@
+// The JIT against the interpreter on real textures, the object cache, the size limit,
+// unloading and parallel compiles.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+#include "compiler/jit.h"
+#include "compiler/value_layout.h"
+#include "lang/interpreter.h"
+#include "lang/session.h"
+
+using namespace tex;
+using namespace tex::lang;
+namespace fs = std::filesystem;
+
+namespace {
+
+compiler::HitAbi hitAbi(float u, float v) {
+  compiler::HitAbi h{};
+  h.p[0] = u * 3.7f, h.p[1] = v * 2.3f, h.p[2] = u * v;
+  h.n[2] = 1;
+  h.uv[0] = u, h.uv[1] = v;
+  return h;
+}
+
+Value hitValue(const compiler::HitAbi& h) { return makeHit(h.p, h.n, h.uv, 0, 0); }
+
+bool agree(float a, float b) {
+  if (std::isnan(a) || std::isnan(b)) return std::isnan(a) && std::isnan(b);
+  return a == b || std::fabs(a - b) <= 1e-6f * std::max(1.0f, std::fabs(b));
+}
+
+fs::path freshDir(const char* name) {
+  fs::path dir = fs::temp_directory_path() / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+struct Loaded {
+  Session session;
+  ModuleInfo* module = nullptr;
+  int fn = -1;
+};
+
+void load(Loaded& l, const std::string& file, const std::string& name) {
+  l.module = l.session.loadFile(std::string(TEX_SOURCE_DIR) + "/" + file);
+  ASSERT_NE(l.module, nullptr);
+  l.fn = l.session.instantiate(l.module, name, {TypeTable::global().hit()}, Span{});
+  for (auto& d : l.session.diags().items()) ADD_FAILURE() << renderDiagnostic(d);
+  ASSERT_GE(l.fn, 0);
+}
+
+}  // namespace
+
+class JitAgreesWithInterpreter : public ::testing::TestWithParam<std::tuple<const char*, compiler::OptLevel>> {};
+
+TEST_P(JitAgreesWithInterpreter, OnEveryPixelOfAGrid) {
+  auto [name, opt] = GetParam();
+  Loaded l;
+  load(l, "scenes/marble.tex", name);
+  compiler::CompileOptions options;
+  options.opt = opt;
+  options.useCache = false;
+  auto module = compiler::compile(l.session.program(), {l.fn}, options, l.session.diags());
+  ASSERT_NE(module, nullptr);
+  const Type* result = l.session.program().functions[size_t(l.fn)].resultType;
+  int lanes = result->fixedLanes();
+  ASSERT_GT(lanes, 0);
+  WavelengthGroup group;
+  compiler::ShadingContext ctx{};
+  ctx.wavelengthCount = 4;
+  for (int i = 0; i < 4; ++i) ctx.lambdaNm[i] = group.lambdaNm[i];
+  for (int y = 0; y < 24; ++y) {
+    for (int x = 0; x < 24; ++x) {
+      compiler::HitAbi h = hitAbi((x + 0.5f) / 24, (y + 0.5f) / 24);
+      float jit[8] = {};
+      module->entry(l.fn)(&h, jit, &ctx);
+      Value interp = evaluate(l.session.program(), l.fn, {hitValue(h)}, group);
+      for (int k = 0; k < lanes; ++k)
+        ASSERT_TRUE(agree(jit[k], interp.f[k])) << name << " at " << x << "," << y << " lane " << k << ": jit " << jit[k]
+                                                << " interp " << interp.f[k];
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Textures, JitAgreesWithInterpreter,
+                         ::testing::Combine(::testing::Values("marble", "marble_classic", "wood", "bricks_tex",
+                                                              "checker_tex", "cells_tex"),
+                                            ::testing::Values(compiler::OptLevel::Quick, compiler::OptLevel::O1)));
+
+TEST(Jit, SpectrumLanesFollowTheContextWavelengths) {
+  Session s;
+  ModuleInfo* m = s.loadSource("ior.tex", "export fn ior(h: Hit) -> Spectrum = 1.5046 + 4200.0 / (lambda_nm * lambda_nm)\n");
+  int fn = s.instantiate(m, "ior", {TypeTable::global().hit()}, Span{});
+  ASSERT_GE(fn, 0);
+  for (int lanes : {1, 4, 8}) {
+    compiler::CompileOptions options;
+    options.wavelengths = lanes;
+    options.useCache = false;
+    auto module = compiler::compile(s.program(), {fn}, options, s.diags());
+    ASSERT_NE(module, nullptr);
+    compiler::ShadingContext ctx{};
+    ctx.wavelengthCount = lanes;
+    for (int i = 0; i < lanes; ++i) ctx.lambdaNm[i] = 380.0f + 55.0f * float(i);
+    compiler::HitAbi h = hitAbi(0.5f, 0.5f);
+    float out[8] = {};
+    module->entry(fn)(&h, out, &ctx);
+    for (int i = 0; i < lanes; ++i) {
+      float lambda = ctx.lambdaNm[i];
+      EXPECT_EQ(out[i], 1.5046f + 4200.0f / (lambda * lambda)) << "lane " << i << " of " << lanes;
+    }
+  }
+}
+
+TEST(Jit, MaterialsBuildTheirClosureTreeInTheArena) {
+  Session s;
+  ModuleInfo* m = s.loadSource("mat.tex",
+                               "export fn m(h: Hit) -> Material = mix_material(diffuse(rgb(h.uv.x, 0.5, 0.25)), "
+                               "emission(2.0 * lambda_nm), 0.25)\n");
+  int fn = s.instantiate(m, "m", {TypeTable::global().hit()}, Span{});
+  ASSERT_GE(fn, 0);
+  compiler::CompileOptions options;
+  options.useCache = false;
+  auto module = compiler::compile(s.program(), {fn}, options, s.diags());
+  ASSERT_NE(module, nullptr);
+  std::vector<compiler::ClosureNode> nodes(8);
+  compiler::ClosureArena arena{nodes.data(), 8, 0, 0};
+  compiler::ShadingContext ctx{{400, 500, 600, 700}, 4, &arena};
+  compiler::HitAbi h = hitAbi(0.75f, 0.5f);
+  int32_t root = -1;
+  module->entry(fn)(&h, &root, &ctx);
+  ASSERT_EQ(arena.count, 3);
+  ASSERT_EQ(root, 2);
+  EXPECT_EQ(nodes[2].kind, compiler::ClosureKind::Mix);
+  EXPECT_EQ(nodes[2].weight, 0.25f);
+  EXPECT_EQ(nodes[nodes[2].a].kind, compiler::ClosureKind::Diffuse);
+  EXPECT_EQ(nodes[nodes[2].a].params[0], 0.75f);
+  EXPECT_EQ(nodes[nodes[2].b].kind, compiler::ClosureKind::Emission);
+  EXPECT_EQ(nodes[nodes[2].b].params[3], 1400.0f);
+  // Overflowing the arena is reported, not a crash.
+  compiler::ClosureArena tiny{nodes.data(), 1, 0, 0};
+  ctx.arena = &tiny;
+  module->entry(fn)(&h, &root, &ctx);
+  EXPECT_EQ(tiny.overflow, 1);
+}
+
+TEST(JitCache, MissThenHitThenCorruptEntriesAreRebuiltNeverLoaded) {
+  fs::path dir = freshDir("tex_jit_cache_test");
+  Loaded l;
+  load(l, "scenes/marble.tex", "marble");
+  compiler::CompileOptions options;
+  options.cacheDir = dir.string();
+  auto evaluate = [&](const compiler::CompiledModule& m) {
+    compiler::ShadingContext ctx{{400, 500, 600, 700}, 4, nullptr};
+    compiler::HitAbi h = hitAbi(0.3f, 0.6f);
+    float out[8] = {};
+    m.entry(l.fn)(&h, out, &ctx);
+    return std::vector<float>(out, out + 3);
+  };
+  auto first = compiler::compile(l.session.program(), {l.fn}, options, l.session.diags());
+  ASSERT_NE(first, nullptr);
+  EXPECT_FALSE(first->stats().cacheHit);
+  std::vector<float> expected = evaluate(*first);
+  auto second = compiler::compile(l.session.program(), {l.fn}, options, l.session.diags());
+  ASSERT_NE(second, nullptr);
+  EXPECT_TRUE(second->stats().cacheHit);
+  EXPECT_EQ(evaluate(*second), expected);
+
+  std::string key = compiler::cacheKey(l.session.program(), {l.fn}, options);
+  ASSERT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 1);
+  fs::path entry = fs::directory_iterator(dir)->path();
+  auto size = fs::file_size(entry);
+  // Truncated, bit-flipped and foreign entries are all rejected and rebuilt.
+  for (int damage = 0; damage < 3; ++damage) {
+    std::string bytes;
+    {
+      std::ifstream in(entry, std::ios::binary);
+      bytes.assign(std::istreambuf_iterator<char>(in), {});
+    }
+    if (damage == 0) bytes.resize(size / 2);
+    if (damage == 1) bytes[bytes.size() - 100] ^= 0x40;
+    if (damage == 2) bytes.replace(bytes.find("tex-compiler"), 3, "xyz");
+    std::ofstream(entry, std::ios::binary | std::ios::trunc) << bytes;
+    auto rebuilt = compiler::compile(l.session.program(), {l.fn}, options, l.session.diags());
+    ASSERT_NE(rebuilt, nullptr);
+    EXPECT_FALSE(rebuilt->stats().cacheHit) << "damage " << damage;
+    EXPECT_TRUE(rebuilt->stats().cacheRejected) << "damage " << damage;
+    EXPECT_EQ(evaluate(*rebuilt), expected);
+    EXPECT_EQ(fs::file_size(entry), size) << "the entry was rewritten whole";
+  }
+  EXPECT_NE(key.find(compiler::hostCpuDescription()), std::string::npos);
+}
+
+TEST(Jit, ExponentialSpecialisationIsAnErrorNotAnOutOfMemory) {
+  std::string text = "fn g0(x: Float) -> Float = x * 1.5\n";
+  for (int i = 1; i < 40; ++i)
+    text += "fn g" + std::to_string(i) + "(x: Float) -> Float = g" + std::to_string(i - 1) + "(x) + g" +
+            std::to_string(i - 1) + "(x + 1.0)\n";
+  text += "export fn main(h: Hit) -> Float = g39(h.uv.x)\n";
+  Session s;
+  ModuleInfo* m = s.loadSource("explode.tex", text);
+  ASSERT_FALSE(s.diags().hasErrors());
+  int fn = s.instantiate(m, "main", {TypeTable::global().hit()}, Span{});
+  ASSERT_GE(fn, 0);
+  compiler::CompileOptions options;
+  options.useCache = false;
+  Diagnostics diags;
+  EXPECT_EQ(compiler::compile(s.program(), {fn}, options, diags), nullptr);
+  ASSERT_EQ(diags.size(), 1u);
+  EXPECT_EQ(diags.items()[0].code, "E0413");
+}
+
+TEST(Jit, ManyCompileAndUnloadCyclesStayCorrect) {
+  Session s;
+  ModuleInfo* m = s.loadSource("cycle.tex", "export fn f(h: Hit) -> Float = h.uv.x * 2.0 + 1.0\n");
+  int fn = s.instantiate(m, "f", {TypeTable::global().hit()}, Span{});
+  compiler::CompileOptions options;
+  options.useCache = false;
+  options.opt = compiler::OptLevel::Quick;
+  for (int i = 0; i < 300; ++i) {
+    auto module = compiler::compile(s.program(), {fn}, options, s.diags());
+    ASSERT_NE(module, nullptr);
+    compiler::ShadingContext ctx{{400, 500, 600, 700}, 4, nullptr};
+    compiler::HitAbi h = hitAbi(0.25f, 0.5f);
+    float out = 0;
+    module->entry(fn)(&h, &out, &ctx);
+    ASSERT_EQ(out, 1.5f);
+  }
+}
+
+TEST(Jit, ParallelCompilesInTwoThreads) {
+  std::vector<std::string> names = {"marble", "wood", "bricks_tex", "checker_tex"};
+  std::vector<float> results(names.size() * 2, -1);
+  auto work = [&](int thread) {
+    for (size_t i = 0; i < names.size(); ++i) {
+      Loaded l;
+      load(l, "scenes/marble.tex", names[i]);
+      compiler::CompileOptions options;
+      options.useCache = false;
+      auto module = compiler::compile(l.session.program(), {l.fn}, options, l.session.diags());
+      if (!module) return;
+      compiler::ShadingContext ctx{{400, 500, 600, 700}, 4, nullptr};
+      compiler::HitAbi h = hitAbi(0.4f, 0.2f);
+      float out[8] = {};
+      module->entry(l.fn)(&h, out, &ctx);
+      results[size_t(thread) * names.size() + i] = out[0];
+    }
+  };
+  std::thread a(work, 0), b(work, 1);
+  a.join();
+  b.join();
+  for (size_t i = 0; i < names.size(); ++i) {
+    EXPECT_GE(results[i], 0.0f);
+    EXPECT_EQ(results[i], results[names.size() + i]) << names[i];
+  }
+}
