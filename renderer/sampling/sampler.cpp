@@ -18,14 +18,9 @@ uint32_t Sampler::getBits(uint64_t index, int dimension) const {
 
 float Sampler::get(uint64_t index, int dimension) const { return bitsToUnitFloat(getBits(index, dimension)); }
 
-FilmPosition Sampler::filmPosition(uint64_t index) const {
+FilmPosition Sampler::filmPositionGeneral(uint64_t index) const {
   if (kind_ == SamplerKind::Sobol) {
     uint32_t x = 0, y = 0;
-    if ((index >> 32) == 0) {
-      sobolFirstTwoReversed(uint32_t(index), x, y);
-      return {bitsToUnitFloat(reverseBits32(laineKarrasPermutation(x, filmScrambleSeeds_[0]))),
-              bitsToUnitFloat(reverseBits32(laineKarrasPermutation(y, filmScrambleSeeds_[1])))};
-    }
     sobolOwenFirstTwo(seed_, index, x, y);
     return {bitsToUnitFloat(x), bitsToUnitFloat(y)};
   }

@@ -9,6 +9,9 @@
 #include <optional>
 #include <string>
 
+#include "renderer/sampling/hash.h"
+#include "renderer/sampling/sobol.h"
+
 namespace tex::sampling {
 
 enum class SamplerKind : uint8_t { Sobol = 0, Random = 1 };
@@ -30,13 +33,23 @@ class Sampler {
   float get(uint64_t index, int dimension) const;
   // 32 fixed-point bits of the same coordinate (for exact stratification tests).
   uint32_t getBits(uint64_t index, int dimension) const;
-  // Dimensions 0 and 1: where sample `index` lands on the film.
-  FilmPosition filmPosition(uint64_t index) const;
+  // Dimensions 0 and 1: where sample `index` lands on the film (inline: every kernel calls it
+  // once per index).
+  FilmPosition filmPosition(uint64_t index) const {
+    if (kind_ == SamplerKind::Sobol && (index >> 32) == 0) {
+      uint32_t x = 0, y = 0;
+      sobolFirstTwoReversed(uint32_t(index), x, y);
+      return {bitsToUnitFloat(reverseBits32(laineKarrasPermutation(x, filmScrambleSeeds_[0]))),
+              bitsToUnitFloat(reverseBits32(laineKarrasPermutation(y, filmScrambleSeeds_[1])))};
+    }
+    return filmPositionGeneral(index);
+  }
 
   SamplerKind kind() const { return kind_; }
   uint64_t seed() const { return seed_; }
 
  private:
+  FilmPosition filmPositionGeneral(uint64_t index) const;
   SamplerKind kind_;
   uint64_t seed_;
   uint32_t filmScrambleSeeds_[2];  // Sobol scramble seeds of dimensions 0, 1 for indices < 2^32

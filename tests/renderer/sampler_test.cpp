@@ -82,6 +82,21 @@ TEST(Sobol, LeadingDimensionsAreZeroTwoNetsScrambledOrNot) {
   EXPECT_FALSE(isZeroTwoNet(Sampler(SamplerKind::Random, 1), 0, 8));
 }
 
+TEST(Sobol, FirstTwoDimensionsWithoutMatricesMatchTheMatrices) {
+  // The shift-and-xor form of dimensions 0 and 1 against the Joe-Kuo matrices, over dense
+  // small indices, every single bit and pseudo-random words.
+  auto check = [](uint32_t i) {
+    uint32_t x = 0, y = 0;
+    sobolFirstTwoReversed(i, x, y);
+    ASSERT_EQ(x, reverseBits32(sobolBits(i, 0))) << i;
+    ASSERT_EQ(y, reverseBits32(sobolBits(i, 1))) << i;
+  };
+  for (uint32_t i = 0; i < (1u << 16); ++i) check(i);
+  for (int b = 0; b < 32; ++b) check(1u << b), check(~(1u << b));
+  Pcg32 rng(7, 1);
+  for (int k = 0; k < 100000; ++k) check(rng.nextBits());
+}
+
 TEST(Sobol, FilmPositionFastPathMatchesGenericDimensions) {
   const Sampler sampler(SamplerKind::Sobol, 77);
   for (uint64_t i : {0ull, 1ull, 255ull, 256ull, 65537ull, 0xfffffffeull, 0x100000003ull, 123456789012ull}) {
