@@ -7,6 +7,17 @@
 #include <llvm/ExecutionEngine/Orc/LLJIT.h>
 #include <llvm/IR/LegacyPassManager.h>
 #include <llvm/Passes/PassBuilder.h>
+#include <llvm/Transforms/IPO/AlwaysInliner.h>
+#include <llvm/Transforms/InstCombine/InstCombine.h>
+#include <llvm/Transforms/Scalar/EarlyCSE.h>
+#include <llvm/Transforms/Scalar/GVN.h>
+#include <llvm/Transforms/Scalar/SROA.h>
+#include <llvm/Transforms/Scalar/SimplifyCFG.h>
+#include <llvm/Transforms/Scalar/LoopUnrollPass.h>
+#include <llvm/Transforms/Utils/LoopSimplify.h>
+#include <llvm/Transforms/Utils/LCSSA.h>
+#include <llvm/Transforms/Scalar/LoopPassManager.h>
+#include <llvm/Transforms/Scalar/IndVarSimplify.h>
 #include <llvm/Support/MemoryBuffer.h>
 #include <llvm/Support/TargetSelect.h>
 #include <llvm/Target/TargetMachine.h>
@@ -94,6 +105,7 @@ llvm::TargetMachine* targetMachine(OptLevel opt, std::string& error) {
       return nullptr;
     }
     slot = std::move(*tm);
+    if (getenv("TEX_FASTISEL")) slot->setFastISel(true);
   }
   return slot.get();
 }
@@ -109,8 +121,29 @@ void optimise(llvm::Module& module, llvm::TargetMachine* tm, OptLevel opt) {
   pb.registerFunctionAnalyses(fam);
   pb.registerLoopAnalyses(lam);
   pb.crossRegisterProxies(lam, fam, cgam, mam);
-  llvm::ModulePassManager mpm = opt == OptLevel::Quick ? pb.buildO0DefaultPipeline(llvm::OptimizationLevel::O0)
-                                                       : pb.buildPerModuleDefaultPipeline(llvm::OptimizationLevel::O1);
+  if (opt == OptLevel::Quick) {
+    llvm::ModulePassManager mpm = pb.buildO0DefaultPipeline(llvm::OptimizationLevel::O0);
+    mpm.run(module, mam);
+    return;
+  }
+  const char* pipeline = getenv("TEX_PIPELINE");
+  if (pipeline && std::string(pipeline) == "o1") {
+    llvm::ModulePassManager mpm = pb.buildPerModuleDefaultPipeline(llvm::OptimizationLevel::O1);
+    mpm.run(module, mam);
+    return;
+  }
+  llvm::ModulePassManager mpm;
+  mpm.addPass(llvm::AlwaysInlinerPass());
+  llvm::FunctionPassManager fpm;
+  fpm.addPass(llvm::SROAPass(llvm::SROAOptions::ModifyCFG));
+  fpm.addPass(llvm::EarlyCSEPass());
+  fpm.addPass(llvm::InstCombinePass());
+  fpm.addPass(llvm::SimplifyCFGPass());
+  if (pipeline && std::string(pipeline) == "gvn") {
+    fpm.addPass(llvm::GVNPass());
+    fpm.addPass(llvm::InstCombinePass());
+  }
+  mpm.addPass(llvm::createModuleToFunctionPassAdaptor(std::move(fpm)));
   mpm.run(module, mam);
 }
 
@@ -221,17 +254,33 @@ std::unique_ptr<CompiledModule> compile(const lang::ir::Program& program, const 
     llvm::LLVMContext context;  // one per compile job: compiles may run in parallel threads
     CodegenOptions codegen;
     codegen.wavelengths = options.wavelengths;
-    codegen.inlineEverything = options.opt != OptLevel::Quick;
+    codegen.inlineEverything = getenv("TEX_INLINE_ALL") != nullptr;
+    auto phase = std::chrono::steady_clock::now();
+    auto lap = [&phase]() {
+      auto now = std::chrono::steady_clock::now();
+      double ms = std::chrono::duration<double, std::milli>(now - phase).count();
+      phase = now;
+      return ms;
+    };
     std::unique_ptr<llvm::Module> module = generateModule(context, program, entries, codegen, error);
     if (!module) return fail("E0501", error);
     module->setDataLayout(tm->createDataLayout());
     module->setTargetTriple(tm->getTargetTriple().str());
+    stats.codegenMs = lap();
     optimise(*module, tm, options.opt);
+    stats.optimiseMs = lap();
+    if (const char* dump = getenv("TEX_DUMP_IR"); dump && *dump) {
+      std::error_code ec;
+      llvm::raw_fd_ostream out(dump, ec);
+      if (!ec) module->print(out, nullptr);
+    }
     if (!emitObject(*module, tm, object, error)) return fail("E0501", "LLVM code generation: " + error);
+    stats.emitMs = lap();
     if (options.useCache) storeCachedObject(directory, key, object);
   }
   stats.objectBytes = object.size();
 
+  auto linkStart = std::chrono::steady_clock::now();
   auto impl = std::make_unique<CompiledModule::Impl>();
   {
     std::lock_guard<std::mutex> lock(engine.mutex);
@@ -249,7 +298,9 @@ std::unique_ptr<CompiledModule> compile(const lang::ir::Program& program, const 
     if (!address) return fail("E0501", "LLVM JIT: " + errorText(address.takeError()));
     result->impl_->entries[entries[k]] = address->toPtr<EntryFn>();
   }
-  stats.milliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  auto end = std::chrono::steady_clock::now();
+  stats.linkMs = std::chrono::duration<double, std::milli>(end - linkStart).count();
+  stats.milliseconds = std::chrono::duration<double, std::milli>(end - start).count();
   result->stats_ = stats;
   return result;
 }

@@ -29,7 +29,8 @@ struct CompileOptions {
 struct CompileStats {
   bool cacheHit = false;
   bool cacheRejected = false;  // a cache entry existed but failed verification and was rebuilt
-  double milliseconds = 0;
+  double milliseconds = 0;    // the whole compile() call
+  double codegenMs = 0, optimiseMs = 0, emitMs = 0, linkMs = 0;  // its phases
   size_t objectBytes = 0;
 };
 
