@@ -128,16 +128,19 @@ void BM_SampleFileRead(benchmark::State& state) {
 }
 BENCHMARK(BM_SampleFileRead)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
-// The scaling table: best of 3 runs of the compute-bound kernel with 1 and 2 threads.
-void printScalingTable() {
-  const uint64_t samples = uint64_t(1) << 21;
+// The scaling tables: best of several runs with 1 and 2 threads, the compute-bound kernel and
+// the trivial kernel (runtime + film-sink overhead at 256x256 and 1024x1024).
+template <class Kernel>
+void printScalingTable(const char* title, uint64_t samples, int resolution, int repetitions) {
   double best[3] = {1e9, 1e9, 1e9};
-  for (int rep = 0; rep < 3; ++rep)
-    for (int t = 1; t <= 2; ++t) best[t] = std::min(best[t], runFilm<ComputeKernel>(t, samples));
-  std::printf("\ncompute-bound kernel, %llu samples, film sink 256x256 box (best of 3)\n", (unsigned long long)samples);
-  std::printf("%8s %12s %14s %10s\n", "threads", "seconds", "M samples/s", "speed-up");
+  for (int rep = 0; rep < repetitions; ++rep)
+    for (int t = 1; t <= 2; ++t) best[t] = std::min(best[t], runFilm<Kernel>(t, samples, resolution));
+  std::printf("\n%s, %llu samples, film sink %dx%d box (best of %d)\n", title, (unsigned long long)samples, resolution,
+              resolution, repetitions);
+  std::printf("%8s %12s %14s %18s %10s\n", "threads", "seconds", "M samples/s", "M samples/s/core", "speed-up");
   for (int t = 1; t <= 2; ++t) {
-    std::printf("%8d %12.4f %14.2f %9.2fx\n", t, best[t], samples / best[t] / 1e6, best[1] / best[t]);
+    std::printf("%8d %12.4f %14.2f %18.2f %9.2fx\n", t, best[t], samples / best[t] / 1e6, samples / best[t] / 1e6 / t,
+                best[1] / best[t]);
   }
 }
 
@@ -148,7 +151,9 @@ int main(int argc, char** argv) {
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
-  printScalingTable();
+  printScalingTable<ComputeKernel>("compute-bound kernel", uint64_t(1) << 21, 256, 3);
+  printScalingTable<TrivialKernel>("trivial kernel", uint64_t(1) << 24, 256, 5);
+  printScalingTable<TrivialKernel>("trivial kernel", uint64_t(1) << 24, 1024, 5);
   std::filesystem::remove(kBenchFile);
   return 0;
 }

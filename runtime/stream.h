@@ -54,9 +54,15 @@ SchedulerResult runStream(IndexRange range, const SchedulerOptions& options, Ker
                           std::span<Sink<Record>* const> sinks) {
   const int slots = workerSlotCount(options);
   for (Sink<Record>* sink : sinks) sink->begin(slots);
-  std::vector<std::vector<Record>> buffers(slots);  // per-worker output buffers
+  // Per-worker output buffers, one cache line pair each: the kernel's emit writes the vector's
+  // end pointer for every record, and two workers writing into one line would make every
+  // record a cache-line transfer between cores (false sharing).
+  struct alignas(128) SlotBuffer {
+    std::vector<Record> records;
+  };
+  std::vector<SlotBuffer> buffers(slots);
   SchedulerResult result = runChunks(range, options, [&](int slot, uint64_t chunkIndex, IndexRange indices) {
-    std::vector<Record>& buffer = buffers[slot];
+    std::vector<Record>& buffer = buffers[slot].records;
     buffer.clear();
     Emitter<Record> emitter(buffer);
     for (uint64_t i = indices.begin; i < indices.end; ++i) kernel(i, emitter);
