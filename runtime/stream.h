@@ -13,7 +13,8 @@
 
 namespace tex::runtime {
 
-// The records one chunk produced, in index order.
+// The records one chunk produced, in index order (or one part of a chunk, for sinks that
+// accept parts: then `indices` is the part's sub-range of the chunk).
 template <class Record>
 struct ChunkRecords {
   uint64_t chunkIndex = 0;
@@ -31,6 +32,14 @@ class Sink {
   // Before the first chunk, with the number of worker slots.
   virtual void begin(int workerSlots) { (void)workerSlots; }
   virtual void consume(int slot, const ChunkRecords<Record>& chunk) = 0;
+  // True if the sink does not need a chunk's records in one call: when every sink of a run
+  // says so, the runtime runs each chunk as consecutive parts of kStreamPartSize indices and
+  // delivers each part as soon as the kernel has produced it, so the record buffer stays small
+  // enough for the core's caches (a chunk of 16384 records of 80 bytes would not). Parts of a
+  // chunk arrive in order, on the chunk's slot, with the same chunkIndex; a chunk is still
+  // done (reported, counted) only when all its parts are, so end() and cancellation are as for
+  // whole chunks.
+  virtual bool acceptsChunkParts() const { return false; }
   // After the last chunk (also after a cancellation or time-budget stop).
   virtual void end(const SchedulerResult& result) { (void)result; }
 };
@@ -47,6 +56,9 @@ class Emitter {
   std::vector<Record>& buffer_;
 };
 
+// Indices per part when every sink accepts chunk parts (see Sink::acceptsChunkParts).
+inline constexpr uint64_t kStreamPartSize = 1024;
+
 // Runs kernel(index, emitter) for every index of the range (in chunks, on TBB workers) and
 // delivers each chunk's records to every sink. Kernel: void(uint64_t index, Emitter<Record>&).
 template <class Record, class Kernel>
@@ -61,13 +73,20 @@ SchedulerResult runStream(IndexRange range, const SchedulerOptions& options, Ker
     std::vector<Record> records;
   };
   std::vector<SlotBuffer> buffers(slots);
+  bool parts = !sinks.empty();
+  for (Sink<Record>* sink : sinks) parts = parts && sink->acceptsChunkParts();
+  const uint64_t partSize = parts ? kStreamPartSize : UINT64_MAX;
   SchedulerResult result = runChunks(range, options, [&](int slot, uint64_t chunkIndex, IndexRange indices) {
     std::vector<Record>& buffer = buffers[slot].records;
-    buffer.clear();
-    Emitter<Record> emitter(buffer);
-    for (uint64_t i = indices.begin; i < indices.end; ++i) kernel(i, emitter);
-    const ChunkRecords<Record> chunk{chunkIndex, indices, std::span<const Record>(buffer)};
-    for (Sink<Record>* sink : sinks) sink->consume(slot, chunk);
+    for (uint64_t begin = indices.begin; begin < indices.end;) {
+      const uint64_t end = indices.end - begin > partSize ? begin + partSize : indices.end;
+      buffer.clear();
+      Emitter<Record> emitter(buffer);
+      for (uint64_t i = begin; i < end; ++i) kernel(i, emitter);
+      const ChunkRecords<Record> chunk{chunkIndex, {begin, end}, std::span<const Record>(buffer)};
+      for (Sink<Record>* sink : sinks) sink->consume(slot, chunk);
+      begin = end;
+    }
   });
   for (Sink<Record>* sink : sinks) sink->end(result);
   return result;

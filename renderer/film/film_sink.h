@@ -16,6 +16,8 @@ class FilmSink : public runtime::Sink<SampleRecord> {
   void begin(int workerSlots) override;
   void consume(int slot, const runtime::ChunkRecords<SampleRecord>& chunk) override;
   void end(const runtime::SchedulerResult& result) override;
+  // The film only adds records up, so it takes chunks in parts (smaller record buffers).
+  bool acceptsChunkParts() const override { return true; }
 
   // Valid after end(): the merged film and the number of sample indices it holds.
   const FilmAccumulator& film() const { return film_; }

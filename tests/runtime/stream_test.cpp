@@ -6,6 +6,7 @@
 #include <atomic>
 #include <chrono>
 #include <csignal>
+#include <map>
 #include <mutex>
 #include <thread>
 
@@ -75,6 +76,58 @@ TEST(Stream, EveryIndexExactlyOnceForAnyThreadCountAndChunkSize) {
       EXPECT_EQ(mergeRanges(sink.ranges), std::vector<IndexRange>{range});
       for (const IndexRange& r : sink.ranges) EXPECT_LE(r.size(), chunk);
     }
+  }
+}
+
+// A sink that takes chunks in parts: records each (chunk, part) and checks the parts of one
+// chunk arrive in order on one slot.
+class PartSink : public RecordingSink {
+ public:
+  bool acceptsChunkParts() const override { return true; }
+  void consume(int slot, const ChunkRecords<IndexRecord>& part) override {
+    RecordingSink::consume(slot, part);
+    std::lock_guard<std::mutex> lock(partMutex);
+    auto [it, fresh] = lastPart.try_emplace(part.chunkIndex, std::pair{slot, part.indices});
+    if (!fresh) {
+      EXPECT_EQ(it->second.first, slot) << "parts of chunk " << part.chunkIndex << " on two slots";
+      EXPECT_EQ(it->second.second.end, part.indices.begin) << "parts of chunk " << part.chunkIndex << " out of order";
+      it->second.second = part.indices;
+    }
+    maxPart = std::max(maxPart, part.indices.size());
+  }
+  std::mutex partMutex;
+  std::map<uint64_t, std::pair<int, IndexRange>> lastPart;
+  uint64_t maxPart = 0;
+};
+
+TEST(Stream, SinksThatAcceptPartsGetChunksInOrderedParts) {
+  const IndexRange range{7, 7 + 3 * kStreamPartSize * 5 + 123};
+  for (int threads : {1, 2}) {
+    PartSink parts;
+    Sink<IndexRecord>* sinks[] = {&parts};
+    SchedulerOptions options;
+    options.threads = threads;
+    options.chunkSize = 3 * kStreamPartSize + 17;
+    const SchedulerResult result = runStream<IndexRecord>(
+        range, options, [](uint64_t i, Emitter<IndexRecord>& out) { out.emit({i, valueOf(i)}); },
+        std::span<Sink<IndexRecord>* const>(sinks));
+    EXPECT_EQ(result.completed, std::vector<IndexRange>{range});
+    EXPECT_EQ(mergeRanges(parts.ranges), std::vector<IndexRange>{range});
+    EXPECT_EQ(parts.maxPart, kStreamPartSize);  // chunks were split
+    EXPECT_GT(parts.ranges.size(), parts.lastPart.size());
+    uint64_t expected = 0;
+    for (uint64_t i = range.begin; i < range.end; ++i) expected += valueOf(i);
+    EXPECT_EQ(parts.sum.load(), expected);
+
+    // With a sink that needs whole chunks in the run, every sink gets whole chunks.
+    PartSink alsoParts;
+    RecordingSink whole;
+    Sink<IndexRecord>* mixed[] = {&alsoParts, &whole};
+    runStream<IndexRecord>(range, options, [](uint64_t i, Emitter<IndexRecord>& out) { out.emit({i, valueOf(i)}); },
+                           std::span<Sink<IndexRecord>* const>(mixed));
+    EXPECT_EQ(alsoParts.maxPart, options.chunkSize);
+    EXPECT_EQ(alsoParts.ranges.size(), alsoParts.lastPart.size());
+    EXPECT_EQ(whole.sum.load(), expected);
   }
 }
 
