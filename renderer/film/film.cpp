@@ -155,7 +155,7 @@ void FilmAccumulator::addScalarBox(const SampleRecord* records, size_t count) {
   const int width = settings_.width, height = settings_.height;
   if (width <= 0 || height <= 0 || count == 0) return;
   constexpr uint32_t kOffFilm = 0xffffffffu;
-  constexpr size_t kBatch = 4096, kAhead = 12;
+  constexpr size_t kBatch = 4096, kAhead = 24;
   const float fw = float(width), fh = float(height);
   int64_t* const sums = sums_.data();
   if (pixelScratch_.size() < kBatch) pixelScratch_.resize(kBatch);
