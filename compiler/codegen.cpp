@@ -8,6 +8,7 @@
 #include <llvm/IR/DerivedTypes.h>
 #include <llvm/IR/IRBuilder.h>
 #include <llvm/IR/Intrinsics.h>
+#include <llvm/IR/MDBuilder.h>
 #include <llvm/IR/Verifier.h>
 #include <llvm/Support/raw_ostream.h>
 
@@ -218,7 +219,10 @@ class Codegen {
     auto* yes = llvm::BasicBlock::Create(context_, "then", fn);
     auto* no = llvm::BasicBlock::Create(context_, "else", fn);
     auto* done = llvm::BasicBlock::Create(context_, "endif", fn);
-    b_.CreateCondBr(cond, yes, no);
+    // Texture conditions usually depend on hashed or noisy data: tell LLVM the branch is
+    // unpredictable, so the selects SimplifyCFG makes of small diamonds stay branch-free.
+    llvm::MDBuilder md(context_);
+    b_.CreateCondBr(cond, yes, no, nullptr, md.createUnpredictable());
     b_.SetInsertPoint(yes);
     llvm::Value* a = gen(n->args[1]);
     llvm::BasicBlock* yesEnd = b_.GetInsertBlock();
