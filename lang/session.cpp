@@ -307,6 +307,37 @@ int Session::compileExpression(ModuleInfo* scope, const Expr* expr,
   return impl_->compileExpression(scope, expr, params);
 }
 
+int Session::specialise(int function, const std::vector<const Value*>& constants) {
+  const ir::Function& target = program_.functions[size_t(function)];
+  if (constants.size() != target.paramTypes.size()) return -1;
+  ir::Function fn;
+  fn.name = target.name + "<specialised>";
+  fn.span = target.span;
+  fn.resultType = target.resultType;
+  ir::Node* call = program_.node(ir::Node::Kind::Call, target.resultType, target.span);
+  call->callee = function;
+  for (size_t i = 0; i < constants.size(); ++i) {
+    const Type* t = target.paramTypes[i];
+    if (!constants[i]) {
+      ir::Node* local = program_.node(ir::Node::Kind::Local, t, target.span);
+      local->slot = int(fn.paramTypes.size());
+      fn.paramTypes.push_back(t);
+      call->args.push_back(local);
+      continue;
+    }
+    if (t->kind != TypeKind::Bool && t->kind != TypeKind::Int && !t->isFloatBased()) return -1;
+    ir::Node* c = program_.node(ir::Node::Kind::Const, t, target.span);
+    for (int k = 0; k < kMaxLanes; ++k) c->floatValue[k] = constants[i]->f[t->kind == TypeKind::Spectrum ? 0 : k];
+    c->intValue = constants[i]->i;
+    c->boolValue = constants[i]->i != 0;
+    call->args.push_back(c);
+  }
+  fn.numSlots = int(fn.paramTypes.size());
+  fn.body = call;
+  program_.functions.push_back(std::move(fn));
+  return int(program_.functions.size()) - 1;
+}
+
 const FunctionDecl* Session::findFunction(ModuleInfo* module, const std::string& name) const {
   const Symbol* sym = lookupSymbol(module, name);
   if (!sym || sym->kind != Symbol::Kind::Decl) return nullptr;

@@ -11,6 +11,7 @@
 #include "lang/ast.h"
 #include "lang/core_ir.h"
 #include "lang/types.h"
+#include "lang/value.h"
 
 namespace tex::lang {
 
@@ -77,6 +78,12 @@ class Session {
   // Compiles an expression in a module's scope as a function of the given parameters.
   int compileExpression(ModuleInfo* scope, const Expr* expr,
                         const std::vector<std::pair<std::string, const Type*>>& params);
+  // Specialises IR function `function` on constant arguments (material parameters): returns a
+  // new function of the parameters whose entry in `constants` is null, which calls `function`
+  // with the given constants in place of the others (Bool, Int and Float-based values only).
+  // The compiler inlines the call and folds the constants. Returns -1 if a constant's type
+  // is not supported.
+  int specialise(int function, const std::vector<const Value*>& constants);
   // Looks up an exported or local definition by name.
   const FunctionDecl* findFunction(ModuleInfo* module, const std::string& name) const;
   // The declared parameter and result types of a fully annotated function (null if not).

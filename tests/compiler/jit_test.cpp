@@ -259,3 +259,29 @@ TEST(Jit, ParallelCompilesInTwoThreads) {
     EXPECT_EQ(results[i], results[names.size() + i]) << names[i];
   }
 }
+
+TEST(Jit, MaterialParametersAreFoldedBySpecialisation) {
+  Session s;
+  ModuleInfo* m = s.loadSource("param.tex",
+                               "export fn t(h: Hit, scale: Float, octaves: Int) -> Float =\n"
+                               "  fold(octaves, 0.0, |a, i| a + sin(h.uv.x * scale * float(i + 1)))\n");
+  const Type* hit = TypeTable::global().hit();
+  int fn = s.instantiate(m, "t", {hit, TypeTable::global().floating(), TypeTable::global().integer()}, Span{});
+  ASSERT_GE(fn, 0);
+  Value scale = Value::ofFloat(3.5f), octaves = Value::ofInt(4);
+  int special = s.specialise(fn, {nullptr, &scale, &octaves});
+  ASSERT_GE(special, 0);
+  EXPECT_EQ(s.program().functions[size_t(special)].paramTypes.size(), 1u);
+  compiler::CompileOptions options;
+  options.useCache = false;
+  auto module = compiler::compile(s.program(), {special}, options, s.diags());
+  ASSERT_NE(module, nullptr);
+  compiler::ShadingContext ctx{{400, 500, 600, 700}, 4, nullptr};
+  for (float u : {0.1f, 0.5f, 0.9f}) {
+    compiler::HitAbi h = hitAbi(u, 0.5f);
+    float jit = 0;
+    module->entry(special)(&h, &jit, &ctx);
+    Value interp = evaluate(s.program(), fn, {hitValue(h), scale, octaves});
+    EXPECT_TRUE(agree(jit, interp.f[0])) << u;
+  }
+}
