@@ -400,7 +400,7 @@ void printTable(const Fixture& f) {
   std::printf("host: %ld CPUs\n", sysconf(_SC_NPROCESSORS_ONLN));
   std::printf("\n%-16s %12s %12s %8s   %9s %9s %9s\n", "texture", "JIT ns/eval", "C++ ns/eval", "ratio", "O1 ms",
               "quick ms", "hit ms");
-  double logSum = 0, worst = 0;
+  double logSum = 0, worst = NAN;
   int ratios = 0;
   std::string worstName;
   double worstO1 = NAN, worstQuick = NAN, worstHit = NAN;
@@ -413,7 +413,7 @@ void printTable(const Fixture& f) {
     if (std::isfinite(ratio)) {
       logSum += std::log(ratio);
       ++ratios;
-      if (ratio > worst) worst = ratio, worstName = t.name;
+      if (!(worst >= ratio)) worst = ratio, worstName = t.name;
     }
     double o1 = lookup(figures.latencyO1, t.name), quick = lookup(figures.latencyQuick, t.name),
            hit = lookup(figures.latencyHit, t.name);
