@@ -15,6 +15,7 @@
 #include <map>
 
 #include "compiler/abi.h"
+#include "compiler/canonical_ir.h"
 
 namespace tex::compiler {
 
@@ -38,6 +39,7 @@ class Codegen {
   }
 
   std::unique_ptr<llvm::Module> run(const std::vector<int>& entries, std::string& error) {
+    countCallSites(entries);
     for (size_t k = 0; k < entries.size(); ++k) {
       llvm::Function* fn = function(entries[k]);
       emitEntry(entries[k], fn, k);
@@ -94,7 +96,12 @@ class Codegen {
     auto* fn = llvm::Function::Create(type, llvm::Function::InternalLinkage, name, *module_);
     fn->addFnAttr(llvm::Attribute::NoUnwind);
     fn->addFnAttr(llvm::Attribute::WillReturn);
-    if (options_.inlineEverything) fn->addFnAttr(llvm::Attribute::AlwaysInline);
+    if (options_.inlineEverything) {
+      uint64_t sites = callSites_[index];
+      uint64_t size = inlinedSize(program_, index);
+      if (sites <= 1 || size <= options_.alwaysInlineSize || size * (sites - 1) <= options_.maxDuplicatedNodes)
+        fn->addFnAttr(llvm::Attribute::AlwaysInline);
+    }
     functions_[index] = fn;
     pending_.push_back(index);
     return fn;
@@ -110,6 +117,31 @@ class Codegen {
     for (size_t i = 0; i < f.paramTypes.size(); ++i) slots_[i] = fn->getArg(unsigned(i + 1));
     llvm::Value* result = gen(f.body);
     b_.CreateRet(result);
+  }
+
+  // Static call sites of each function reachable from the entries, and each one's own size.
+  void countCallSites(const std::vector<int>& entries) {
+    std::vector<int> work(entries.begin(), entries.end());
+    std::map<int, bool> seen;
+    while (!work.empty()) {
+      int f = work.back();
+      work.pop_back();
+      if (seen[f]) continue;
+      seen[f] = true;
+      uint64_t size = 0;
+      std::vector<const Node*> nodes = {program_.functions[size_t(f)].body};
+      while (!nodes.empty()) {
+        const Node* n = nodes.back();
+        nodes.pop_back();
+        ++size;
+        if (n->kind == Node::Kind::Call || n->kind == Node::Kind::Fold) {
+          ++callSites_[n->callee];
+          work.push_back(n->callee);
+        }
+        for (const Node* a : n->args) nodes.push_back(a);
+      }
+      ownSize_[f] = size;
+    }
   }
 
   // The ABI wrapper: void tex_entry_k(ptr args, ptr result, ptr ctx).
@@ -486,6 +518,7 @@ class Codegen {
   llvm::IRBuilder<> b_;
   llvm::Type *ptrTy_, *f32_, *i32_, *i1_;
   std::map<int, llvm::Function*> functions_;
+  std::map<int, uint64_t> callSites_, ownSize_;
   std::vector<int> pending_;
   llvm::Value* ctx_ = nullptr;
   std::vector<llvm::Value*> slots_;

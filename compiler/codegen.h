@@ -14,7 +14,11 @@ namespace tex::compiler {
 
 struct CodegenOptions {
   int wavelengths = 4;
-  bool inlineEverything = true;  // mark internal functions alwaysinline (O1)
+  bool inlineEverything = true;  // mark internal functions alwaysinline (O1)...
+  // ...except those whose inlining would duplicate more than this many IR operations
+  // (own size times the extra call sites): they stay calls, which keeps compile time down.
+  uint64_t maxDuplicatedNodes = 400;
+  uint64_t alwaysInlineSize = 64;  // leaves this small are inlined wherever they are called
 };
 
 std::string entrySymbol(size_t entryIndex);

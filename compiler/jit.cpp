@@ -32,7 +32,7 @@ namespace tex::compiler {
 namespace {
 
 // Bump on every change to code generation: it is part of every cache key.
-constexpr const char* kCompilerVersion = "tex-compiler-2";
+constexpr const char* kCompilerVersion = "tex-compiler-4";
 
 std::string errorText(llvm::Error error) { return llvm::toString(std::move(error)); }
 
@@ -44,9 +44,11 @@ struct Engine {
   std::atomic<uint64_t> counter{0};
   std::mutex mutex;  // serialises JITDylib creation and removal
 
+  // Never destroyed: compiled modules may outlive static destruction (a static holding one
+  // would otherwise unload into a destroyed JIT at exit).
   static Engine& get() {
-    static Engine engine;
-    return engine;
+    static Engine* engine = new Engine();
+    return *engine;
   }
 
  private:
