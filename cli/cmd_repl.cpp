@@ -308,8 +308,19 @@ int runRepl(const Args& args) {
     else return usageError("repl", "unknown option '" + args[i] + "'");
   }
   bool interactive = isatty(STDIN_FILENO) && isatty(STDOUT_FILENO);
+  // History persists across sessions in ~/.tex_history (interactive use only).
+  std::string historyFile;
+  if (const char* home = std::getenv("HOME"); interactive && home && *home) {
+    historyFile = std::string(home) + "/.tex_history";
+    read_history(historyFile.c_str());
+  }
   if (interactive) std::printf("tex repl — :help for commands, :quit or Ctrl-D to leave\n");
-  return Repl(options, interactive, interpret).run();
+  int status = Repl(options, interactive, interpret).run();
+  if (!historyFile.empty()) {
+    stifle_history(1000);
+    write_history(historyFile.c_str());
+  }
+  return status;
 }
 
 }  // namespace
