@@ -32,7 +32,7 @@ namespace tex::compiler {
 namespace {
 
 // Bump on every change to code generation: it is part of every cache key.
-constexpr const char* kCompilerVersion = "tex-compiler-4";
+constexpr const char* kCompilerVersion = "tex-compiler-5";
 
 std::string errorText(llvm::Error error) { return llvm::toString(std::move(error)); }
 
@@ -136,7 +136,6 @@ void optimise(llvm::Module& module, llvm::TargetMachine* tm, OptLevel opt) {
   fpm.addPass(llvm::InstCombinePass());
   fpm.addPass(llvm::SimplifyCFGPass());
   fpm.addPass(llvm::GVNPass());
-  fpm.addPass(llvm::InstCombinePass());
   mpm.addPass(llvm::createModuleToFunctionPassAdaptor(std::move(fpm)));
   mpm.run(module, mam);
 }
