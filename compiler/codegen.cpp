@@ -345,6 +345,73 @@ class Codegen {
     return result;
   }
 
+  llvm::Value* doubleConst(llvm::Type* like, double value) {
+    llvm::Constant* c = llvm::ConstantFP::get(llvm::Type::getDoubleTy(context_), value);
+    return llvm::ConstantVector::getSplat(llvm::cast<llvm::FixedVectorType>(like)->getElementCount(), c);
+  }
+
+  // sin or cos of every lane of a Spectrum at once: Cody-Waite reduction by pi/2 and Taylor
+  // polynomials in double precision, rounded once to float, so each lane is within about
+  // half an ulp of the exact value (docs/language.md allows 4 ulp; the C library's sinf/cosf
+  // are within 1). Lanes beyond |x| <= 65536, and NaN or infinities, take the C library path
+  // for the whole vector.
+  llvm::Value* spectralSinCos(llvm::Value* x, bool cosine) {
+    auto* vt = llvm::cast<llvm::FixedVectorType>(x->getType());
+    unsigned count = unsigned(vt->getNumElements());
+    auto* dt = llvm::FixedVectorType::get(llvm::Type::getDoubleTy(context_), count);
+    auto* it = llvm::FixedVectorType::get(i32_, count);
+    llvm::Value* absX = b_.CreateIntrinsic(llvm::Intrinsic::fabs, {vt}, {x});
+    llvm::Value* inRange = b_.CreateAndReduce(b_.CreateFCmpOLE(absX, floatConst(vt, 65536.0f)));
+    llvm::BasicBlock* start = b_.GetInsertBlock();
+    llvm::Function* fn = start->getParent();
+    auto* fast = llvm::BasicBlock::Create(context_, "sincos.fast", fn);
+    auto* slow = llvm::BasicBlock::Create(context_, "sincos.libm", fn);
+    auto* done = llvm::BasicBlock::Create(context_, "sincos.end", fn);
+    b_.CreateCondBr(inRange, fast, slow);
+
+    b_.SetInsertPoint(fast);
+    llvm::Value* xd = b_.CreateFPExt(x, dt);
+    llvm::Value* k = b_.CreateIntrinsic(llvm::Intrinsic::rint, {dt}, {b_.CreateFMul(xd, doubleConst(dt, 0.63661977236758134308))});
+    // pi/2 = hi + lo with hi's 33 leading bits, so k * hi is exact for |k| < 2^20.
+    llvm::Value* r = b_.CreateFSub(b_.CreateFSub(xd, b_.CreateFMul(k, doubleConst(dt, 1.57079632673412561417e+00))),
+                                   b_.CreateFMul(k, doubleConst(dt, 6.07710050650619224932e-11)));
+    llvm::Value* r2 = b_.CreateFMul(r, r);
+    auto horner = [&](std::initializer_list<double> coefficients) {
+      llvm::Value* acc = nullptr;
+      for (double c : coefficients) acc = acc ? b_.CreateFAdd(b_.CreateFMul(acc, r2), doubleConst(dt, c)) : doubleConst(dt, c);
+      return acc;
+    };
+    // sin r = r (1 - r^2/3! + ... - r^14/15!), cos r = 1 - r^2/2! + ... + r^16/16!, |r| <= pi/4.
+    llvm::Value* sinR = b_.CreateFMul(r, horner({-1.0 / 1307674368000.0, 1.0 / 6227020800.0, -1.0 / 39916800.0, 1.0 / 362880.0,
+                                                -1.0 / 5040.0, 1.0 / 120.0, -1.0 / 6.0, 1.0}));
+    llvm::Value* cosR = horner({1.0 / 20922789888000.0, -1.0 / 87178291200.0, 1.0 / 479001600.0, -1.0 / 3628800.0,
+                                1.0 / 40320.0, -1.0 / 720.0, 1.0 / 24.0, -0.5, 1.0});
+    // Quadrant q = k mod 4 (cos x = sin(x + pi/2): shift q by one).
+    llvm::Value* q = b_.CreateFPToSI(k, it);
+    if (cosine) q = b_.CreateAdd(q, llvm::ConstantVector::getSplat(it->getElementCount(), b_.getInt32(1)));
+    auto splatI = [&](uint32_t v) { return llvm::ConstantVector::getSplat(it->getElementCount(), b_.getInt32(v)); };
+    llvm::Value* useCos = b_.CreateICmpNE(b_.CreateAnd(q, splatI(1)), splatI(0));
+    llvm::Value* negate = b_.CreateICmpNE(b_.CreateAnd(q, splatI(2)), splatI(0));
+    llvm::Value* value = b_.CreateSelect(useCos, cosR, sinR);
+    value = b_.CreateSelect(negate, b_.CreateFNeg(value), value);
+    llvm::Value* fastResult = b_.CreateFPTrunc(value, vt);
+    // sin(-0) is -0: the reduction would give +0.
+    if (!cosine) fastResult = b_.CreateSelect(b_.CreateFCmpOEQ(x, floatConst(vt, 0.0f)), x, fastResult);
+    llvm::BasicBlock* fastEnd = b_.GetInsertBlock();
+    b_.CreateBr(done);
+
+    b_.SetInsertPoint(slow);
+    llvm::Value* slowResult = libmLanes(cosine ? "cosf" : "sinf", {x});
+    llvm::BasicBlock* slowEnd = b_.GetInsertBlock();
+    b_.CreateBr(done);
+
+    b_.SetInsertPoint(done);
+    llvm::PHINode* phi = b_.CreatePHI(vt, 2);
+    phi->addIncoming(fastResult, fastEnd);
+    phi->addIncoming(slowResult, slowEnd);
+    return phi;
+  }
+
   llvm::Value* floatConst(llvm::Type* like, float value) {
     llvm::Constant* c = llvm::ConstantFP::get(f32_, double(value));
     if (auto* vt = llvm::dyn_cast<llvm::FixedVectorType>(like)) return llvm::ConstantVector::getSplat(vt->getElementCount(), c);
@@ -397,8 +464,8 @@ class Codegen {
       case Prim::FExp2: return libmLanes("exp2f", a);
       case Prim::FLog: return libmLanes("logf", a);
       case Prim::FLog2: return libmLanes("log2f", a);
-      case Prim::FSin: return libmLanes("sinf", a);
-      case Prim::FCos: return libmLanes("cosf", a);
+      case Prim::FSin: return n->type->kind == TypeKind::Spectrum && lanes(n->type) >= 4 ? spectralSinCos(a[0], false) : libmLanes("sinf", a);
+      case Prim::FCos: return n->type->kind == TypeKind::Spectrum && lanes(n->type) >= 4 ? spectralSinCos(a[0], true) : libmLanes("cosf", a);
       case Prim::FTan: return libmLanes("tanf", a);
       case Prim::FAsin: return libmLanes("asinf", a);
       case Prim::FAcos: return libmLanes("acosf", a);

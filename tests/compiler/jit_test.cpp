@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 #include <fstream>
 #include <thread>
 
@@ -284,4 +285,55 @@ TEST(Jit, MaterialParametersAreFoldedBySpecialisation) {
     Value interp = evaluate(s.program(), fn, {hitValue(h), scale, octaves});
     EXPECT_TRUE(agree(jit, interp.f[0])) << u;
   }
+}
+
+// Spectrum sin/cos take a vector path (compiler/codegen.cpp, spectralSinCos): it must stay
+// within 1 ulp of the C library the interpreter uses, keep sin(-0) = -0, and fall back for
+// huge arguments, NaN and infinities.
+TEST(Jit, SpectralSinCosStayWithinOneUlpOfTheCLibrary) {
+  Session s;
+  ModuleInfo* m = s.loadSource("sincos.tex",
+                               "export fn s(h: Hit) -> Spectrum = sin(lambda_nm)\n"
+                               "export fn c(h: Hit) -> Spectrum = cos(lambda_nm)\n");
+  int fs = s.instantiate(m, "s", {TypeTable::global().hit()}, Span{});
+  int fc = s.instantiate(m, "c", {TypeTable::global().hit()}, Span{});
+  compiler::CompileOptions options;
+  options.useCache = false;
+  auto module = compiler::compile(s.program(), {fs, fc}, options, s.diags());
+  ASSERT_NE(module, nullptr);
+  auto ordered = [](float f) {
+    int32_t i;
+    std::memcpy(&i, &f, 4);
+    return i < 0 ? int64_t(INT32_MIN) - i : int64_t(i);
+  };
+  compiler::HitAbi h{};
+  auto check = [&](const float lanes[4]) {
+    compiler::ShadingContext ctx{};
+    ctx.wavelengthCount = 4;
+    for (int i = 0; i < 4; ++i) ctx.lambdaNm[i] = lanes[i];
+    float sinOut[8], cosOut[8];
+    module->entry(fs)(&h, sinOut, &ctx);
+    module->entry(fc)(&h, cosOut, &ctx);
+    for (int i = 0; i < 4; ++i) {
+      float x = lanes[i];
+      float sx = std::sin(x), cx = std::cos(x);
+      if (std::isnan(sx)) {
+        EXPECT_TRUE(std::isnan(sinOut[i])) << x;
+      } else {
+        EXPECT_LE(std::llabs(ordered(sinOut[i]) - ordered(sx)), 1) << "sin " << x;
+        EXPECT_EQ(std::signbit(sinOut[i]), std::signbit(sx)) << "sin " << x;
+      }
+      if (std::isnan(cx)) EXPECT_TRUE(std::isnan(cosOut[i])) << x;
+      else EXPECT_LE(std::llabs(ordered(cosOut[i]) - ordered(cx)), 1) << "cos " << x;
+    }
+  };
+  for (double x = -70000.0; x < 70000.0; x += 0.61) {
+    const float lanes[4] = {float(x), float(x + 0.013), float(x * 1e-3), float(x * 1e-7)};
+    check(lanes);
+  }
+  const float specials[][4] = {{-0.0f, 0.0f, 1e-40f, -1e-30f},
+                               {1e30f, 0.5f, 0.25f, 3.0f},
+                               {std::numeric_limits<float>::quiet_NaN(), 1.0f, 2.0f, 3.0f},
+                               {std::numeric_limits<float>::infinity(), 1.0f, 2.0f, 3.0f}};
+  for (const auto& lanes : specials) check(lanes);
 }
