@@ -428,6 +428,34 @@ class Codegen {
     return b_.CreateSelect(b_.CreateOr(zero, overflow), special, q);
   }
 
+  // int(x): truncation with NaN -> 0 and saturation (docs/language.md 5). In range (the
+  // common case) it is one truncating conversion; the saturating fix-up sits behind a branch
+  // marked unlikely, so hot code pays no compares and conditional moves for it.
+  llvm::Value* floatToInt(llvm::Value* x) {
+    if (!options_.inlineEverything)  // quick mode: fewer blocks compile faster
+      return b_.CreateIntrinsic(llvm::Intrinsic::fptosi_sat, {i32_, f32_}, {x});
+    llvm::Value* inRange = b_.CreateFCmpOLT(b_.CreateIntrinsic(llvm::Intrinsic::fabs, {f32_}, {x}),
+                                            llvm::ConstantFP::get(f32_, 2147483648.0));
+    llvm::BasicBlock* start = b_.GetInsertBlock();
+    llvm::Function* fn = start->getParent();
+    auto* fast = llvm::BasicBlock::Create(context_, "ftoi.fast", fn);
+    auto* slow = llvm::BasicBlock::Create(context_, "ftoi.saturate", fn);
+    auto* done = llvm::BasicBlock::Create(context_, "ftoi.end", fn);
+    llvm::MDBuilder md(context_);
+    b_.CreateCondBr(inRange, fast, slow, md.createBranchWeights(4096, 1));
+    b_.SetInsertPoint(fast);
+    llvm::Value* truncated = b_.CreateFPToSI(x, i32_);
+    b_.CreateBr(done);
+    b_.SetInsertPoint(slow);
+    llvm::Value* saturated = b_.CreateIntrinsic(llvm::Intrinsic::fptosi_sat, {i32_, f32_}, {x});
+    b_.CreateBr(done);
+    b_.SetInsertPoint(done);
+    llvm::PHINode* phi = b_.CreatePHI(i32_, 2);
+    phi->addIncoming(truncated, fast);
+    phi->addIncoming(saturated, slow);
+    return phi;
+  }
+
   llvm::Value* allLanesEqual(llvm::Value* x, llvm::Value* y) {
     llvm::Value* eq = b_.CreateFCmpOEQ(x, y);
     if (!eq->getType()->isVectorTy()) return eq;
@@ -514,7 +542,7 @@ class Codegen {
       case Prim::BEq: return b_.CreateICmpEQ(a[0], a[1]);
       case Prim::BNe: return b_.CreateICmpNE(a[0], a[1]);
       case Prim::IntToFloat: return b_.CreateSIToFP(a[0], f32_);
-      case Prim::FloatToInt: return b_.CreateIntrinsic(llvm::Intrinsic::fptosi_sat, {i32_, f32_}, {a[0]});
+      case Prim::FloatToInt: return floatToInt(a[0]);
       case Prim::Splat: return b_.CreateVectorSplat(unsigned(lanes(n->type)), a[0]);
       case Prim::Concat: {
         llvm::Value* v = llvm::PoisonValue::get(lower(n->type));
