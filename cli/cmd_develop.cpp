@@ -6,6 +6,7 @@
 #include <ctime>
 
 #include "cli/command.h"
+#include "cli/options.h"
 #include "cli/option_values.h"
 #include "renderer/film/film.h"
 #include "renderer/io/sample_file.h"
@@ -61,11 +62,7 @@ int runDevelop(const Args& args) {
   bool half = false, variance = true, quiet = false;
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
-    auto value = [&](std::string& out) {
-      if (i + 1 >= args.size()) return false;
-      out = args[++i];
-      return true;
-    };
+    auto value = [&](std::string& out) { return takeValue(args, i, out); };
     std::string v;
     if (a == "-o" || a == "--output") {
       if (!value(output)) return usage("-o needs a path");

@@ -46,11 +46,7 @@ struct Options {
 int parse(const Args& args, Options& o) {
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
-    auto value = [&](std::string& out) {
-      if (i + 1 >= args.size()) return false;
-      out = args[++i];
-      return true;
-    };
+    auto value = [&](std::string& out) { return takeValue(args, i, out); };
     std::string v;
     if (a == "--fn") {
       if (!value(o.function)) return usageError("eval", "--fn needs a function name");

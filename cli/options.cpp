@@ -12,6 +12,12 @@ int usageError(const char* command, const std::string& message) {
   return 2;
 }
 
+bool takeValue(const Args& args, size_t& i, std::string& out) {
+  if (i + 1 >= args.size()) return false;
+  out = args[++i];
+  return true;
+}
+
 bool parseInt(const std::string& text, int& value) {
   auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
   return ec == std::errc() && ptr == text.data() + text.size() && !text.empty();

@@ -12,6 +12,7 @@
 #include <llvm/IR/Verifier.h>
 #include <llvm/Support/raw_ostream.h>
 
+#include <functional>
 #include <map>
 
 #include "compiler/abi.h"
@@ -36,6 +37,9 @@ class Codegen {
     f32_ = llvm::Type::getFloatTy(c);
     i32_ = llvm::Type::getInt32Ty(c);
     i1_ = llvm::Type::getInt1Ty(c);
+    llvm::MDBuilder md(c);
+    unpredictable_ = md.createUnpredictable();
+    likely_ = md.createBranchWeights(4096, 1);
   }
 
   std::unique_ptr<llvm::Module> run(const std::vector<int>& entries, std::string& error) {
@@ -245,29 +249,37 @@ class Codegen {
     return llvm::PoisonValue::get(lower(t));
   }
 
-  llvm::Value* genIf(const Node* n) {
-    llvm::Value* cond = gen(n->args[0]);
+  // if (cond) yes() else no(), merged by a phi; `branchMetadata` annotates the branch.
+  llvm::Value* diamond(llvm::Value* cond, llvm::MDNode* branchMetadata, const char* name,
+                       const std::function<llvm::Value*()>& yes, const std::function<llvm::Value*()>& no) {
     llvm::Function* fn = b_.GetInsertBlock()->getParent();
-    auto* yes = llvm::BasicBlock::Create(context_, "then", fn);
-    auto* no = llvm::BasicBlock::Create(context_, "else", fn);
-    auto* done = llvm::BasicBlock::Create(context_, "endif", fn);
-    // Texture conditions usually depend on hashed or noisy data: tell LLVM the branch is
-    // unpredictable, so the selects SimplifyCFG makes of small diamonds stay branch-free.
-    llvm::MDBuilder md(context_);
-    b_.CreateCondBr(cond, yes, no, nullptr, md.createUnpredictable());
-    b_.SetInsertPoint(yes);
-    llvm::Value* a = gen(n->args[1]);
+    auto* yesBlock = llvm::BasicBlock::Create(context_, std::string(name) + ".then", fn);
+    auto* noBlock = llvm::BasicBlock::Create(context_, std::string(name) + ".else", fn);
+    auto* done = llvm::BasicBlock::Create(context_, std::string(name) + ".end", fn);
+    llvm::BranchInst* branch = b_.CreateCondBr(cond, yesBlock, noBlock);
+    if (branchMetadata) branch->setMetadata(branchMetadata == unpredictable_ ? llvm::LLVMContext::MD_unpredictable
+                                                                              : llvm::LLVMContext::MD_prof,
+                                            branchMetadata);
+    b_.SetInsertPoint(yesBlock);
+    llvm::Value* a = yes();
     llvm::BasicBlock* yesEnd = b_.GetInsertBlock();
     b_.CreateBr(done);
-    b_.SetInsertPoint(no);
-    llvm::Value* c = gen(n->args[2]);
+    b_.SetInsertPoint(noBlock);
+    llvm::Value* c = no();
     llvm::BasicBlock* noEnd = b_.GetInsertBlock();
     b_.CreateBr(done);
     b_.SetInsertPoint(done);
-    llvm::PHINode* phi = b_.CreatePHI(lower(n->type), 2);
+    llvm::PHINode* phi = b_.CreatePHI(a->getType(), 2);
     phi->addIncoming(a, yesEnd);
     phi->addIncoming(c, noEnd);
     return phi;
+  }
+
+  llvm::Value* genIf(const Node* n) {
+    // Texture conditions usually depend on hashed or noisy data: tell LLVM the branch is
+    // unpredictable, so the selects SimplifyCFG makes of small diamonds stay branch-free.
+    llvm::Value* cond = gen(n->args[0]);
+    return diamond(cond, unpredictable_, "if", [&] { return gen(n->args[1]); }, [&] { return gen(n->args[2]); });
   }
 
   llvm::Value* genShortCircuit(const Node* n) {
@@ -357,19 +369,17 @@ class Codegen {
   // for the whole vector.
   llvm::Value* spectralSinCos(llvm::Value* x, bool cosine) {
     auto* vt = llvm::cast<llvm::FixedVectorType>(x->getType());
+    llvm::Value* absX = b_.CreateIntrinsic(llvm::Intrinsic::fabs, {vt}, {x});
+    llvm::Value* inRange = b_.CreateAndReduce(b_.CreateFCmpOLE(absX, floatConst(vt, 65536.0f)));
+    return diamond(inRange, likely_, "sincos", [&] { return sinCosFast(x, cosine); },
+                   [&] { return libmLanes(cosine ? "cosf" : "sinf", {x}); });
+  }
+
+  llvm::Value* sinCosFast(llvm::Value* x, bool cosine) {
+    auto* vt = llvm::cast<llvm::FixedVectorType>(x->getType());
     unsigned count = unsigned(vt->getNumElements());
     auto* dt = llvm::FixedVectorType::get(llvm::Type::getDoubleTy(context_), count);
     auto* it = llvm::FixedVectorType::get(i32_, count);
-    llvm::Value* absX = b_.CreateIntrinsic(llvm::Intrinsic::fabs, {vt}, {x});
-    llvm::Value* inRange = b_.CreateAndReduce(b_.CreateFCmpOLE(absX, floatConst(vt, 65536.0f)));
-    llvm::BasicBlock* start = b_.GetInsertBlock();
-    llvm::Function* fn = start->getParent();
-    auto* fast = llvm::BasicBlock::Create(context_, "sincos.fast", fn);
-    auto* slow = llvm::BasicBlock::Create(context_, "sincos.libm", fn);
-    auto* done = llvm::BasicBlock::Create(context_, "sincos.end", fn);
-    b_.CreateCondBr(inRange, fast, slow);
-
-    b_.SetInsertPoint(fast);
     llvm::Value* xd = b_.CreateFPExt(x, dt);
     llvm::Value* k = b_.CreateIntrinsic(llvm::Intrinsic::rint, {dt}, {b_.CreateFMul(xd, doubleConst(dt, 0.63661977236758134308))});
     // pi/2 = hi + lo with hi's 33 leading bits, so k * hi is exact for |k| < 2^20.
@@ -397,19 +407,7 @@ class Codegen {
     llvm::Value* fastResult = b_.CreateFPTrunc(value, vt);
     // sin(-0) is -0: the reduction would give +0.
     if (!cosine) fastResult = b_.CreateSelect(b_.CreateFCmpOEQ(x, floatConst(vt, 0.0f)), x, fastResult);
-    llvm::BasicBlock* fastEnd = b_.GetInsertBlock();
-    b_.CreateBr(done);
-
-    b_.SetInsertPoint(slow);
-    llvm::Value* slowResult = libmLanes(cosine ? "cosf" : "sinf", {x});
-    llvm::BasicBlock* slowEnd = b_.GetInsertBlock();
-    b_.CreateBr(done);
-
-    b_.SetInsertPoint(done);
-    llvm::PHINode* phi = b_.CreatePHI(vt, 2);
-    phi->addIncoming(fastResult, fastEnd);
-    phi->addIncoming(slowResult, slowEnd);
-    return phi;
+    return fastResult;
   }
 
   llvm::Value* floatConst(llvm::Type* like, float value) {
@@ -432,28 +430,11 @@ class Codegen {
   // common case) it is one truncating conversion; the saturating fix-up sits behind a branch
   // marked unlikely, so hot code pays no compares and conditional moves for it.
   llvm::Value* floatToInt(llvm::Value* x) {
-    if (!options_.inlineEverything)  // quick mode: fewer blocks compile faster
-      return b_.CreateIntrinsic(llvm::Intrinsic::fptosi_sat, {i32_, f32_}, {x});
+    auto saturating = [&]() -> llvm::Value* { return b_.CreateIntrinsic(llvm::Intrinsic::fptosi_sat, {i32_, f32_}, {x}); };
+    if (!options_.inlineEverything) return saturating();  // quick mode: fewer blocks compile faster
     llvm::Value* inRange = b_.CreateFCmpOLT(b_.CreateIntrinsic(llvm::Intrinsic::fabs, {f32_}, {x}),
                                             llvm::ConstantFP::get(f32_, 2147483648.0));
-    llvm::BasicBlock* start = b_.GetInsertBlock();
-    llvm::Function* fn = start->getParent();
-    auto* fast = llvm::BasicBlock::Create(context_, "ftoi.fast", fn);
-    auto* slow = llvm::BasicBlock::Create(context_, "ftoi.saturate", fn);
-    auto* done = llvm::BasicBlock::Create(context_, "ftoi.end", fn);
-    llvm::MDBuilder md(context_);
-    b_.CreateCondBr(inRange, fast, slow, md.createBranchWeights(4096, 1));
-    b_.SetInsertPoint(fast);
-    llvm::Value* truncated = b_.CreateFPToSI(x, i32_);
-    b_.CreateBr(done);
-    b_.SetInsertPoint(slow);
-    llvm::Value* saturated = b_.CreateIntrinsic(llvm::Intrinsic::fptosi_sat, {i32_, f32_}, {x});
-    b_.CreateBr(done);
-    b_.SetInsertPoint(done);
-    llvm::PHINode* phi = b_.CreatePHI(i32_, 2);
-    phi->addIncoming(truncated, fast);
-    phi->addIncoming(saturated, slow);
-    return phi;
+    return diamond(inRange, likely_, "ftoi", [&]() -> llvm::Value* { return b_.CreateFPToSI(x, i32_); }, saturating);
   }
 
   llvm::Value* allLanesEqual(llvm::Value* x, llvm::Value* y) {
@@ -612,6 +593,8 @@ class Codegen {
   std::unique_ptr<llvm::Module> module_;
   llvm::IRBuilder<> b_;
   llvm::Type *ptrTy_, *f32_, *i32_, *i1_;
+  llvm::MDNode* unpredictable_;  // for if-expressions
+  llvm::MDNode* likely_;         // branch weights: the first successor is the common case
   std::map<int, llvm::Function*> functions_;
   std::map<int, uint64_t> callSites_, ownSize_;
   std::vector<int> pending_;

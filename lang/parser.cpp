@@ -241,12 +241,24 @@ class Parser {
     module_->imports.push_back(std::move(imp));
   }
 
-  void parseFunction(bool exported) {
+  // Starts an item at its keyword: kind, export flag and name.
+  Item beginItem(Item::Kind kind, bool exported, const char* nameWhat, Span& keyword) {
     Item item;
-    item.kind = Item::Kind::Function;
+    item.kind = kind;
     item.exported = exported;
-    Span kw = spanOf(advance());
-    item.name = expectIdent(item.nameSpan, "a function name after 'fn'");
+    keyword = spanOf(advance());
+    item.name = expectIdent(item.nameSpan, nameWhat);
+    return item;
+  }
+
+  void finishItem(Item& item, Span keyword) {
+    item.span = join(keyword, prevEnd());
+    module_->items.push_back(std::move(item));
+  }
+
+  void parseFunction(bool exported) {
+    Span kw;
+    Item item = beginItem(Item::Kind::Function, exported, "a function name after 'fn'", kw);
     {
       Opener open(*this, Tok::LParen);
       expect(Tok::LParen, "to start the parameter list");
@@ -278,34 +290,25 @@ class Parser {
     } else {
       errorHere("expected '=' or '{' to start the function body");
     }
-    item.span = join(kw, prevEnd());
-    module_->items.push_back(std::move(item));
+    finishItem(item, kw);
   }
 
   void parseLetItem(bool exported) {
-    Item item;
-    item.kind = Item::Kind::Let;
-    item.exported = exported;
-    Span kw = spanOf(advance());
-    item.name = expectIdent(item.nameSpan, "a name after 'let'");
+    Span kw;
+    Item item = beginItem(Item::Kind::Let, exported, "a name after 'let'", kw);
     if (accept(Tok::Colon)) item.resultType = parseType();
     expect(Tok::Assign, "after the name");
     item.body = parseExpr();
     if (at(Tok::KwIn)) errorHere("expected a top-level definition", "a top-level 'let' defines a constant; 'let ... in' is an expression and belongs inside a function");
-    item.span = join(kw, prevEnd());
-    module_->items.push_back(std::move(item));
+    finishItem(item, kw);
   }
 
   void parseTypeItem(bool exported) {
-    Item item;
-    item.kind = Item::Kind::Type;
-    item.exported = exported;
-    Span kw = spanOf(advance());
-    item.name = expectIdent(item.nameSpan, "a type name after 'type'");
+    Span kw;
+    Item item = beginItem(Item::Kind::Type, exported, "a type name after 'type'", kw);
     expect(Tok::Assign, "after the type name");
     item.resultType = parseType();
-    item.span = join(kw, prevEnd());
-    module_->items.push_back(std::move(item));
+    finishItem(item, kw);
   }
 
   // ---- types ---------------------------------------------------------------------------
