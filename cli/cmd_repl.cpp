@@ -133,13 +133,17 @@ class Repl {
   }
 
   void input(const std::string& text) {
+    // Expressions are compiled, evaluated and dropped again; definitions stay.
+    lang::Session::Mark mark = session_->mark();
     int fn = compile(text, true);
-    if (fn < 0) return;
-    const lang::ir::Function& f = session_->program().functions[size_t(fn)];
-    lang::Value v;
-    if (!run(fn, v)) return;
-    std::printf("%s : %s\n", lang::formatValue(v, f.resultType, hit_.group).c_str(), lang::typeName(f.resultType).c_str());
-    std::fflush(stdout);
+    if (fn >= 0) {
+      const lang::ir::Function& f = session_->program().functions[size_t(fn)];
+      lang::Value v;
+      if (run(fn, v))
+        std::printf("%s : %s\n", lang::formatValue(v, f.resultType, hit_.group).c_str(), lang::typeName(f.resultType).c_str());
+      std::fflush(stdout);
+      session_->rollback(mark);
+    }
   }
 
   bool command(const std::string& line) {
@@ -149,13 +153,19 @@ class Repl {
     if (name == ":help" || name == ":h") {
       std::fputs(kHelp, stdout);
     } else if (name == ":type" || name == ":t") {
+      lang::Session::Mark mark = session_->mark();
       int fn = compile(rest, false);
-      if (fn >= 0) std::printf("%s\n", lang::typeName(session_->program().functions[size_t(fn)].resultType).c_str());
+      if (fn >= 0) {
+        std::printf("%s\n", lang::typeName(session_->program().functions[size_t(fn)].resultType).c_str());
+        session_->rollback(mark);
+      }
     } else if (name == ":ir") {
+      lang::Session::Mark mark = session_->mark();
       int fn = compile(rest, false);
       if (fn >= 0) {
         std::set<int> shown;
         dumpWithCallees(fn, shown);
+        session_->rollback(mark);
       }
     } else if (name == ":load" || name == ":l") {
       load(rest, true);

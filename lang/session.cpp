@@ -307,6 +307,15 @@ int Session::compileExpression(ModuleInfo* scope, const Expr* expr,
   return impl_->compileExpression(scope, expr, params);
 }
 
+void Session::rollback(const Mark& mark) {
+  for (auto it = impl_->instances.begin(); it != impl_->instances.end();) {
+    if (it->second >= int(mark.functions)) it = impl_->instances.erase(it);
+    else ++it;
+  }
+  if (program_.functions.size() > mark.functions) program_.functions.resize(mark.functions);
+  if (program_.nodes.size() > mark.nodes) program_.nodes.resize(mark.nodes);
+}
+
 int Session::specialise(int function, const std::vector<const Value*>& constants) {
   const ir::Function& target = program_.functions[size_t(function)];
   if (constants.size() != target.paramTypes.size()) return -1;

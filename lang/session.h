@@ -84,6 +84,13 @@ class Session {
   // The compiler inlines the call and folds the constants. Returns -1 if a constant's type
   // is not supported.
   int specialise(int function, const std::vector<const Value*>& constants);
+  // Everything compiled after a mark can be dropped again: the REPL evaluates each expression
+  // and rolls back, so a long session does not accumulate IR.
+  struct Mark {
+    size_t functions = 0, nodes = 0;
+  };
+  Mark mark() const { return {program_.functions.size(), program_.nodes.size()}; }
+  void rollback(const Mark& mark);
   // Looks up an exported or local definition by name.
   const FunctionDecl* findFunction(ModuleInfo* module, const std::string& name) const;
   // The declared parameter and result types of a fully annotated function (null if not).

@@ -59,3 +59,21 @@ TEST(Interpreter, LongReplSessionNeverHitsTheSpecialisationLimit) {
     ASSERT_GE(s.compileExpression(s.replModule(), expr, {}), 0) << "line " << n;
   }
 }
+
+TEST(Interpreter, ReplRollbackKeepsALongSessionFromGrowing) {
+  // The REPL compiles each expression, evaluates it and rolls the IR back (cli/cmd_repl.cpp).
+  Session s;
+  Expr* expr = nullptr;
+  ASSERT_TRUE(s.addReplInput("fn twice(f, x) = f(f(x))", expr, 0));
+  Session::Mark start = s.mark();
+  for (int n = 1; n <= 2000; ++n) {
+    ASSERT_TRUE(s.addReplInput("twice(|v| v * " + std::to_string(n) + ".0, 1.5)", expr, n));
+    Session::Mark before = s.mark();
+    int fn = s.compileExpression(s.replModule(), expr, {});
+    ASSERT_GE(fn, 0);
+    EXPECT_EQ(evaluate(s.program(), fn, {}).f[0], 1.5f * float(n) * float(n));
+    s.rollback(before);
+  }
+  EXPECT_EQ(s.mark().functions, start.functions);
+  EXPECT_EQ(s.mark().nodes, start.nodes);
+}
