@@ -121,6 +121,26 @@ inline void FilmAccumulator::splatScalar(int px, int py, float a, float value) {
   addFixed4(&sums_[(size_t(py) * settings_.width + px) * kScalarStride], a, double(a) * a, ac, ac * value);
 }
 
+// Calls visit(px, py, weight) for every pixel whose filter footprint covers film position
+// (x, y) in pixel units, with the separable filter weight times the record weight.
+template <typename Visit>
+static void forEachFootprintPixel(const Filter& filter, int width, int height, float x, float y, float recordWeight,
+                                  Visit visit) {
+  const float radius = filter.radiusPixels();
+  const int x0 = std::max(0, int(std::ceil(x - 0.5f - radius))), x1 = std::min(width - 1, int(std::floor(x - 0.5f + radius)));
+  const int y0 = std::max(0, int(std::ceil(y - 0.5f - radius))), y1 = std::min(height - 1, int(std::floor(y - 0.5f + radius)));
+  float wx[8];
+  for (int px = x0; px <= x1 && px - x0 < 8; ++px) wx[px - x0] = filter.evaluate1d(x - (float(px) + 0.5f));
+  for (int py = y0; py <= y1; ++py) {
+    const float wy = filter.evaluate1d(y - (float(py) + 0.5f)) * recordWeight;
+    if (wy == 0.0f) continue;
+    for (int px = x0; px <= x1 && px - x0 < 8; ++px) {
+      const float a = wx[px - x0] * wy;
+      if (a != 0.0f) visit(px, py, a);
+    }
+  }
+}
+
 void FilmAccumulator::add(const SampleRecord& r) {
   if (scalar_ && settings_.filter == FilterKind::Box) {
     addScalarBox(&r, 1);
@@ -194,19 +214,8 @@ void FilmAccumulator::addGeneral(const SampleRecord& r) {
       splatScalar(std::min(int(x), width - 1), std::min(int(y), height - 1), r.weight, value);
       return;
     }
-    const float radius = filter_.radiusPixels();
-    const int x0 = std::max(0, int(std::ceil(x - 0.5f - radius))), x1 = std::min(width - 1, int(std::floor(x - 0.5f + radius)));
-    const int y0 = std::max(0, int(std::ceil(y - 0.5f - radius))), y1 = std::min(height - 1, int(std::floor(y - 0.5f + radius)));
-    float wx[8];
-    for (int px = x0; px <= x1 && px - x0 < 8; ++px) wx[px - x0] = filter_.evaluate1d(x - (float(px) + 0.5f));
-    for (int py = y0; py <= y1; ++py) {
-      const float wy = filter_.evaluate1d(y - (float(py) + 0.5f)) * r.weight;
-      if (wy == 0.0f) continue;
-      for (int px = x0; px <= x1 && px - x0 < 8; ++px) {
-        const float a = wx[px - x0] * wy;
-        if (a != 0.0f) splatScalar(px, py, a, value);
-      }
-    }
+    forEachFootprintPixel(filter_, width, height, x, y, r.weight,
+                          [&](int px, int py, float a) { splatScalar(px, py, a, value); });
     return;
   }
   const Colour colour = colourOf(r);
@@ -227,19 +236,8 @@ void FilmAccumulator::addGeneral(const SampleRecord& r) {
     splat(px, py, r.weight, colour, bins);
     return;
   }
-  const float radius = filter_.radiusPixels();
-  const int x0 = std::max(0, int(std::ceil(x - 0.5f - radius))), x1 = std::min(width - 1, int(std::floor(x - 0.5f + radius)));
-  const int y0 = std::max(0, int(std::ceil(y - 0.5f - radius))), y1 = std::min(height - 1, int(std::floor(y - 0.5f + radius)));
-  float wx[8];
-  for (int px = x0; px <= x1 && px - x0 < 8; ++px) wx[px - x0] = filter_.evaluate1d(x - (float(px) + 0.5f));
-  for (int py = y0; py <= y1; ++py) {
-    const float wy = filter_.evaluate1d(y - (float(py) + 0.5f)) * r.weight;
-    if (wy == 0.0f) continue;
-    for (int px = x0; px <= x1 && px - x0 < 8; ++px) {
-      const float a = wx[px - x0] * wy;
-      if (a != 0.0f) splat(px, py, a, colour, bins);
-    }
-  }
+  forEachFootprintPixel(filter_, width, height, x, y, r.weight,
+                        [&](int px, int py, float a) { splat(px, py, a, colour, bins); });
 }
 
 std::string FilmAccumulator::merge(const FilmAccumulator& other) {
