@@ -1,0 +1,104 @@
+// Surface scattering: BSDF lobes and their weighted mixture at one shading point.
+//
+// Conventions (as in pbrt-v4 and Veach's thesis):
+//  - Directions are unit vectors pointing away from the surface, in the local shading frame
+//    (z = shading normal) inside lobes, in world space in Bsdf's interface.
+//  - f(wo, wi) is the BSDF value; the measure of pdfs is solid angle (pdfW).
+//  - Specular (Dirac) lobes: sample() returns f = R / |cos(wi)| and pdfW = the discrete
+//    probability of having picked that event, so f |cos| / pdf is the usual weight; eval()
+//    and pdf() of a specular lobe are 0.
+//  - TransportMode::Radiance: wo points toward the camera side of the path (the path carries
+//    radiance); TransportMode::Importance: the path came from a light. Refraction scales
+//    radiance by 1/eta^2 only in Radiance mode (non-symmetric BSDF of refraction, Veach 5.2).
+//  - Spectral: every value is per wavelength of the path's group. A lobe whose sampled
+//    direction depends on the wavelength (a dielectric whose IOR varies with it: dispersion)
+//    samples with the hero wavelength (lane 0) and reports `dispersive`; the integrator then
+//    handles the other lanes (terminate them, or spectral MIS in a later issue).
+#pragma once
+#include <cstdint>
+#include <optional>
+
+#include "renderer/core/geometry.h"
+#include "renderer/core/spectrum.h"
+
+namespace tex::render {
+
+enum class TransportMode : uint8_t { Radiance, Importance };
+
+enum class LobeKind : uint8_t {
+  Lambertian,         // albedo = weight
+  SmoothDielectric,   // eta = a (interior IOR over exterior, per wavelength); weight scales both R and T
+  SmoothConductor,    // complex IOR eta + i k: eta = a, k = b; weight scales the Fresnel reflectance
+};
+
+// One lobe with its weight. Kinds are native renderer code; materials select them through the
+// closure tree a compiled .tex material returns (renderer/material/).
+struct Lobe {
+  LobeKind kind = LobeKind::Lambertian;
+  bool etaVaries = false;  // SmoothDielectric: eta differs between the group's wavelengths
+  Spectrum weight;         // multiplies the lobe's value (albedo of Lambertian)
+  Spectrum a, b;           // kind-specific parameters (above)
+};
+
+struct BsdfSample {
+  Spectrum f;             // BSDF value (see specular convention above)
+  Vec3 wi;                // sampled direction
+  float pdfW = 0;         // solid-angle density (or discrete probability for specular)
+  bool specular = false;  // a Dirac event: skip NEE/MIS at this vertex
+  bool transmission = false;
+  bool dispersive = false;  // direction chosen with the hero wavelength only (see above)
+  float etaScale = 1;       // relative IOR crossed (for Russian roulette bookkeeping): 1 if reflected
+};
+
+// Single-lobe routines in the local frame (z = normal). u2 picks the direction, uc picks a
+// discrete event (reflection vs refraction).
+Spectrum lobeEval(const Lobe& lobe, const Vec3& wo, const Vec3& wi, TransportMode mode);
+float lobePdf(const Lobe& lobe, const Vec3& wo, const Vec3& wi, TransportMode mode);
+std::optional<BsdfSample> lobeSample(const Lobe& lobe, const Vec3& wo, float uc, Vec2 u2, TransportMode mode);
+bool lobeIsSpecular(LobeKind kind);
+
+// Fresnel reflectance of a dielectric interface for cosThetaI (relative to the side the light
+// arrives from; negative = from inside) and relative IOR eta = n_inside / n_outside.
+float fresnelDielectric(float cosThetaI, float eta);
+// Fresnel reflectance of a conductor, unpolarised, for complex IOR eta + i k (per lane).
+Spectrum fresnelConductor(float cosThetaI, const Spectrum& eta, const Spectrum& k);
+
+// A mixture of up to kMaxLobes weighted lobes at one shading point, with the shading frame
+// and the geometric normal (for the adjoint shading-normal correction and for leaks: an
+// evaluated direction must be on a side that agrees with both normals' reflect/transmit
+// classification).
+class Bsdf {
+ public:
+  static constexpr int kMaxLobes = 8;
+
+  Bsdf() = default;
+  Bsdf(const Frame& shadingFrame, const Vec3& geometricNormal) : frame_(shadingFrame), ng_(geometricNormal) {}
+
+  // Adds a lobe (its weight already includes mix weights). Returns false when full.
+  bool add(const Lobe& lobe);
+  int lobeCount() const { return count_; }
+  const Lobe& lobe(int i) const { return lobes_[i]; }
+  bool empty() const { return count_ == 0; }
+  bool hasNonSpecular() const;
+  const Frame& frame() const { return frame_; }
+  const Vec3& geometricNormal() const { return ng_; }
+
+  // World-space interface. eval includes no cosine; the integrator multiplies |cos| with the
+  // shading normal. In Importance mode the shading-normal correction
+  // |wo.ns| |wi.ng| / (|wo.ng| |wi.ns|) is applied (Veach 1997, section 5.3).
+  Spectrum eval(const Vec3& woWorld, const Vec3& wiWorld, TransportMode mode) const;
+  float pdf(const Vec3& woWorld, const Vec3& wiWorld, TransportMode mode) const;
+  // Chooses a lobe with probability proportional to its selection weight (the mean of its
+  // weight over the group), samples it, and returns the mixture's f and pdf for the chosen
+  // direction (for non-specular choices: all non-specular lobes' f and pdf summed).
+  std::optional<BsdfSample> sample(const Vec3& woWorld, float uc, Vec2 u2, TransportMode mode) const;
+
+ private:
+  float selectionWeight(int i) const;
+  Frame frame_;
+  Vec3 ng_{0, 0, 1};
+  Lobe lobes_[kMaxLobes];
+  int count_ = 0;
+};
+
+}  // namespace tex::render

@@ -1,0 +1,100 @@
+// Spectral values carried by a path: one float per wavelength of the path's group (4 or 8,
+// color::WavelengthGroup). Always 8 lanes wide so that arithmetic is one AVX register and the
+// code is the same for both group sizes; lanes beyond the group's count are zero.
+#pragma once
+#include <algorithm>
+#include <cmath>
+
+#include "renderer/color/wavelengths.h"
+
+namespace tex::render {
+
+using Wavelengths = color::WavelengthGroup;
+inline constexpr int kLanes = color::kMaxWavelengths;
+
+struct Spectrum {
+  alignas(32) float v[kLanes];
+
+  Spectrum() : v{} {}
+  explicit Spectrum(float c) {
+    for (float& x : v) x = c;
+  }
+  float& operator[](int i) { return v[i]; }
+  float operator[](int i) const { return v[i]; }
+
+#define TEX_SPECTRUM_OP(op)                                           \
+  Spectrum& operator op##=(const Spectrum& o) {                       \
+    for (int i = 0; i < kLanes; ++i) v[i] op## = o.v[i];              \
+    return *this;                                                     \
+  }                                                                   \
+  Spectrum& operator op##=(float s) {                                 \
+    for (int i = 0; i < kLanes; ++i) v[i] op## = s;                   \
+    return *this;                                                     \
+  }                                                                   \
+  friend Spectrum operator op(Spectrum a, const Spectrum& b) { return a op## = b; } \
+  friend Spectrum operator op(Spectrum a, float s) { return a op## = s; }
+  TEX_SPECTRUM_OP(+)
+  TEX_SPECTRUM_OP(-)
+  TEX_SPECTRUM_OP(*)
+#undef TEX_SPECTRUM_OP
+  friend Spectrum operator*(float s, Spectrum a) { return a *= s; }
+  // Division with 0/0 = 0 lane by lane (unused lanes stay zero; a zero pdf means "no sample").
+  friend Spectrum safeDiv(const Spectrum& a, const Spectrum& b) {
+    Spectrum r;
+    for (int i = 0; i < kLanes; ++i) r.v[i] = b.v[i] != 0.0f ? a.v[i] / b.v[i] : 0.0f;
+    return r;
+  }
+  Spectrum operator/(float s) const {
+    Spectrum r = *this;
+    const float inv = s != 0.0f ? 1.0f / s : 0.0f;
+    return r *= inv;
+  }
+
+  bool isBlack() const {
+    for (float x : v)
+      if (x != 0.0f) return false;
+    return true;
+  }
+  float maxValue() const {
+    float m = v[0];
+    for (float x : v) m = std::max(m, x);
+    return m;
+  }
+  // Mean over the first `count` lanes.
+  float average(int count) const {
+    float s = 0.0f;
+    for (int i = 0; i < count; ++i) s += v[i];
+    return count > 0 ? s / float(count) : 0.0f;
+  }
+  bool hasNaNOrInf() const {
+    for (float x : v)
+      if (!std::isfinite(x)) return true;
+    return false;
+  }
+};
+
+inline Spectrum sqrt(const Spectrum& a) {
+  Spectrum r;
+  for (int i = 0; i < kLanes; ++i) r.v[i] = std::sqrt(std::max(a.v[i], 0.0f));
+  return r;
+}
+inline Spectrum exp(const Spectrum& a) {
+  Spectrum r;
+  for (int i = 0; i < kLanes; ++i) r.v[i] = std::exp(a.v[i]);
+  return r;
+}
+inline Spectrum clampZero(const Spectrum& a) {
+  Spectrum r;
+  for (int i = 0; i < kLanes; ++i) r.v[i] = std::max(a.v[i], 0.0f);
+  return r;
+}
+
+// Evaluates f(lambdaNm) at each wavelength of the group (lanes past count stay zero).
+template <class F>
+Spectrum sampleSpectrum(const Wavelengths& lambda, F&& f) {
+  Spectrum s;
+  for (int i = 0; i < lambda.count; ++i) s.v[i] = f(lambda.lambdaNm[i]);
+  return s;
+}
+
+}  // namespace tex::render

@@ -1,0 +1,104 @@
+// Warps from uniform numbers in [0,1)^n to distributions on common domains, each with its
+// density in the measure named by the function (standard results; see pbrt-v4, chapter A.5,
+// and Shirley & Chiu 1997 for the concentric disk map).
+#pragma once
+#include <algorithm>
+#include <cmath>
+
+#include "renderer/core/geometry.h"
+
+namespace tex::render {
+
+// Unit disk, area density 1/pi. Concentric (low distortion, keeps stratification).
+inline Vec2 sampleConcentricDisk(Vec2 u) {
+  const Vec2 o = u * 2.0f - Vec2(1.0f);
+  if (o.x == 0.0f && o.y == 0.0f) return Vec2(0.0f);
+  float r, theta;
+  if (std::fabs(o.x) > std::fabs(o.y)) {
+    r = o.x;
+    theta = (kPi / 4.0f) * (o.y / o.x);
+  } else {
+    r = o.y;
+    theta = kPi / 2.0f - (kPi / 4.0f) * (o.x / o.y);
+  }
+  return Vec2(r * std::cos(theta), r * std::sin(theta));
+}
+
+// Cosine-weighted hemisphere around +z: pdfW = cos(theta) / pi.
+inline Vec3 sampleCosineHemisphere(Vec2 u) {
+  const Vec2 d = sampleConcentricDisk(u);
+  const float z = std::sqrt(std::max(0.0f, 1.0f - d.x * d.x - d.y * d.y));
+  return Vec3(d.x, d.y, z);
+}
+inline float cosineHemispherePdfW(float cosTheta) { return cosTheta > 0.0f ? cosTheta * kInvPi : 0.0f; }
+
+// Uniform sphere: pdfW = 1 / (4 pi).
+inline Vec3 sampleUniformSphere(Vec2 u) {
+  const float z = 1.0f - 2.0f * u.x;
+  const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
+  const float phi = 2.0f * kPi * u.y;
+  return Vec3(r * std::cos(phi), r * std::sin(phi), z);
+}
+inline constexpr float kUniformSpherePdfW = kInv4Pi;
+
+// Uniform hemisphere around +z: pdfW = 1 / (2 pi).
+inline Vec3 sampleUniformHemisphere(Vec2 u) {
+  const float z = u.x;
+  const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
+  const float phi = 2.0f * kPi * u.y;
+  return Vec3(r * std::cos(phi), r * std::sin(phi), z);
+}
+inline constexpr float kUniformHemispherePdfW = kInv2Pi;
+
+// Uniform cone around +z with half-angle acos(cosThetaMax): pdfW = 1 / (2 pi (1 - cosThetaMax)).
+inline Vec3 sampleUniformCone(Vec2 u, float cosThetaMax) {
+  const float cosTheta = (1.0f - u.x) + u.x * cosThetaMax;
+  const float sinTheta = std::sqrt(std::max(0.0f, 1.0f - cosTheta * cosTheta));
+  const float phi = 2.0f * kPi * u.y;
+  return Vec3(sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta);
+}
+inline float uniformConePdfW(float cosThetaMax) { return 1.0f / (2.0f * kPi * (1.0f - cosThetaMax)); }
+
+// Uniform barycentrics on a triangle (b0, b1; b2 = 1 - b0 - b1): area density 1 / area.
+// Heitz 2019's square-to-triangle map (keeps stratification better than the sqrt map).
+inline Vec2 sampleUniformTriangle(Vec2 u) {
+  float b0, b1;
+  if (u.x < u.y) {
+    b0 = u.x / 2.0f;
+    b1 = u.y - b0;
+  } else {
+    b1 = u.y / 2.0f;
+    b0 = u.x - b1;
+  }
+  return Vec2(b0, b1);
+}
+
+// Converts a density per unit area at a point seen from a reference point to a density per
+// solid angle there: pdfW = pdfA * distance^2 / |cos at the point|.
+inline float areaToSolidAnglePdf(float pdfA, float distanceSquared, float absCosAtPoint) {
+  return absCosAtPoint > 0.0f ? pdfA * distanceSquared / absCosAtPoint : 0.0f;
+}
+
+// Balance / power heuristics for multiple importance sampling (Veach 1997).
+inline float powerHeuristic(float pdfA, float pdfB) {
+  const float a = pdfA * pdfA, b = pdfB * pdfB;
+  if (std::isinf(a)) return 1.0f;
+  return a + b > 0.0f ? a / (a + b) : 0.0f;
+}
+inline float balanceHeuristic(float pdfA, float pdfB) { return pdfA + pdfB > 0.0f ? pdfA / (pdfA + pdfB) : 0.0f; }
+
+// Direction <-> spherical coordinates, with theta measured from +y (world up) for environment
+// maps: u = phi / 2pi in [0,1), v = theta / pi in [0,1] (v = 0 straight up).
+inline Vec3 sphericalDirectionYUp(float u, float v) {
+  const float phi = 2.0f * kPi * u, theta = kPi * v;
+  const float s = std::sin(theta);
+  return Vec3(s * std::sin(phi), std::cos(theta), -s * std::cos(phi));
+}
+inline Vec2 directionToSphericalYUp(const Vec3& d) {
+  const float theta = std::acos(std::clamp(d.y, -1.0f, 1.0f));
+  float phi = std::atan2(d.x, -d.z);
+  if (phi < 0.0f) phi += 2.0f * kPi;
+  return Vec2(phi * kInv2Pi, theta * kInvPi);
+}
+
+}  // namespace tex::render

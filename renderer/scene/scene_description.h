@@ -1,0 +1,158 @@
+// What a scene file says, after loading and validation, as plain data: meshes in object
+// space with their instances, images, glTF materials, .tex material bindings, cameras, lights
+// and render settings. Loaders (glTF, scene JSON) fill it; the renderer builds Embree
+// geometry, compiled materials and lights from it. No renderer types in here.
+#pragma once
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "renderer/core/geometry.h"
+
+namespace tex::render {
+
+// A spectrum as a scene file writes it (renderer/spectra/spectrum_desc.h evaluates it).
+struct SpectrumDesc {
+  enum class Kind : uint8_t {
+    Constant,    // value
+    Rgb,         // rgb, upsampled (Jakob & Hanika 2019); reflectance, unbounded or illuminant by use
+    Blackbody,   // kelvin, normalised to peak 1, times scale
+    Named,       // name from the built-in library ("cornell-white", "Au-eta", "D65", ...)
+    Tabulated,   // (lambdaNm, value) pairs, linearly interpolated, 0 outside
+  };
+  Kind kind = Kind::Constant;
+  float value = 0;
+  Vec3 rgb{0.0f};
+  float kelvin = 6500;
+  float scale = 1;  // multiplies any kind
+  std::string name;
+  std::vector<float> lambdaNm, values;
+};
+
+enum class WrapMode : uint8_t { Repeat, ClampToEdge, MirroredRepeat };
+
+// A decoded image, as floats, 1-4 channels, top row first. glTF colour textures are sRGB
+// encoded: the loader keeps the encoded values and `srgb` says how to decode them.
+struct ImageData {
+  std::string name;
+  int width = 0, height = 0, channels = 0;
+  std::vector<float> pixels;  // width * height * channels, values in [0,1] for 8/16-bit sources
+};
+
+struct TextureRef {
+  int image = -1;  // index into SceneDescription::images; -1: none
+  int texCoord = 0;
+  WrapMode wrapS = WrapMode::Repeat, wrapT = WrapMode::Repeat;
+  bool nearest = false;  // magnification filter NEAREST
+  // KHR_texture_transform: uv' = T(offset) R(rotation) S(scale) uv
+  Vec2 offset{0.0f}, scale{1.0f};
+  float rotation = 0;
+};
+
+// glTF 2.0 metallic-roughness material plus the extensions we read.
+struct GltfMaterial {
+  std::string name;
+  Vec4 baseColorFactor{1.0f};
+  TextureRef baseColorTexture;
+  float metallicFactor = 1, roughnessFactor = 1;
+  TextureRef metallicRoughnessTexture;
+  TextureRef normalTexture;
+  float normalScale = 1;
+  Vec3 emissiveFactor{0.0f};
+  float emissiveStrength = 1;  // KHR_materials_emissive_strength
+  TextureRef emissiveTexture;
+  float transmissionFactor = 0;  // KHR_materials_transmission
+  TextureRef transmissionTexture;
+  float ior = 1.5f;              // KHR_materials_ior
+  float dispersion = 0;          // KHR_materials_dispersion (20 / Abbe number)
+  float thicknessFactor = 0;     // KHR_materials_volume
+  float attenuationDistance = INFINITY;
+  Vec3 attenuationColor{1.0f};
+  enum class AlphaMode : uint8_t { Opaque, Mask, Blend } alphaMode = AlphaMode::Opaque;
+  float alphaCutoff = 0.5f;
+  bool doubleSided = false;
+};
+
+// A parameter value given to a .tex material by the scene file.
+struct TexParamValue {
+  enum class Kind : uint8_t { Bool, Int, Float, Vec, Spectrum } kind = Kind::Float;
+  bool boolValue = false;
+  int32_t intValue = 0;
+  std::vector<float> floats;  // Float: 1; Vec2/3/4 or Color: 2-4
+  SpectrumDesc spectrum;      // Spectrum-typed parameters: evaluated per hit at the path's wavelengths
+};
+
+// Binds a .tex material to glTF materials or meshes by name.
+struct TexMaterialBinding {
+  std::string file;   // resolved path of the .tex module
+  std::string entry;  // exported function (first parameter Hit, returns Material)
+  std::map<std::string, TexParamValue> params;
+  std::string matchMaterial, matchMesh;  // one of them set; matched against glTF names
+  std::string origin;  // "scene.json:12:5", for messages
+};
+
+struct MeshPrimitive {
+  std::string meshName;
+  std::vector<Vec3> positions;
+  std::vector<Vec3> normals;  // empty: the renderer uses face normals
+  std::vector<Vec2> uv0, uv1; // empty when absent
+  std::vector<Vec4> tangents;
+  std::vector<uint32_t> indices;  // triangles (3 per face), validated against positions.size()
+  int material = -1;              // index into SceneDescription::materials; -1: default material
+};
+
+struct MeshInstance {
+  int primitive = 0;  // index into SceneDescription::primitives
+  Mat4 objectToWorld{1.0f};
+  std::string nodeName;
+};
+
+struct CameraDesc {
+  std::string name;
+  Mat4 cameraToWorld{1.0f};  // looks down local -z
+  float yFovRadians = 0.8f;
+  float aspect = 0;          // 0: from the render resolution
+  float lensRadius = 0;
+  float focusDistance = 1;
+};
+
+struct LightDesc {
+  enum class Kind : uint8_t { Point, Spot, Directional, ConstantEnvironment, ImageEnvironment } kind = Kind::Point;
+  std::string name;
+  Vec3 position{0.0f};
+  Vec3 direction{0.0f, 0.0f, -1.0f};  // spot / directional: direction light travels
+  SpectrumDesc emission;              // colour x intensity (W/sr for point/spot: see docs/scene-format.md)
+  float intensity = 1;                // point/spot: candela -> W/sr is the caller's concern; directional: irradiance
+  float innerConeRadians = 0, outerConeRadians = 0.7853982f;
+  std::string imagePath;              // ImageEnvironment: OpenEXR file
+  Mat4 environmentToWorld{1.0f};
+};
+
+struct RenderSettings {
+  int width = 512, height = 512;
+  int spp = 16;
+  int maxDepth = 8;
+  int wavelengths = 4;
+  uint64_t seed = 0;
+  std::string integrator = "path";
+  int camera = 0;  // index into cameras
+};
+
+struct SceneDescription {
+  std::string sourcePath;
+  std::vector<MeshPrimitive> primitives;
+  std::vector<MeshInstance> instances;
+  std::vector<ImageData> images;
+  std::vector<GltfMaterial> materials;
+  std::vector<TexMaterialBinding> texMaterials;
+  std::vector<CameraDesc> cameras;
+  std::vector<LightDesc> lights;
+  RenderSettings settings;
+  bool settingsGiven = false;       // the file set render settings (CLI flags still override)
+  std::vector<std::string> warnings;  // recoverable problems (missing image, unknown extension)
+};
+
+}  // namespace tex::render
