@@ -69,6 +69,7 @@ struct GltfMaterial {
   float ior = 1.5f;              // KHR_materials_ior
   float dispersion = 0;          // KHR_materials_dispersion (20 / Abbe number)
   float thicknessFactor = 0;     // KHR_materials_volume
+  TextureRef thicknessTexture;   // KHR_materials_volume (G channel)
   float attenuationDistance = INFINITY;
   Vec3 attenuationColor{1.0f};
   enum class AlphaMode : uint8_t { Opaque, Mask, Blend } alphaMode = AlphaMode::Opaque;
