@@ -1,6 +1,7 @@
 // The C ABI between compiled .tex code and its callers (docs/abi.md). Plain C layout: the
 // renderer includes this header and nothing of LLVM.
 #pragma once
+#include <cstddef>
 #include <cstdint>
 
 namespace tex::compiler {
@@ -9,16 +10,29 @@ constexpr int kMaxWavelengths = 8;
 
 // One closure node of a Material value (docs/abi.md, "Materials"). Kinds grow with the
 // renderer's lobe set; unknown kinds are never produced by an older compiler.
-enum class ClosureKind : uint32_t { Diffuse = 1, Emission = 2, Mix = 3 };
+enum class ClosureKind : uint32_t { Diffuse = 1, Emission = 2, Mix = 3, Dielectric = 4, Conductor = 5 };
 enum class ClosureParam : uint32_t { None = 0, Color = 1, Spectrum = 2 };
+
+// ClosureNode::flags bit 0: the node's parameters depend on the wavelength (decided statically
+// from the program, docs/abi.md): e.g. a dispersive IOR, for which the renderer keeps only
+// the hero wavelength of a path after refraction.
+constexpr uint32_t kClosureVariesWithWavelength = 1u << 0;
 
 struct ClosureNode {
   ClosureKind kind;
   ClosureParam paramKind;  // how `params` is to be read
   int32_t a, b;            // Mix: child node indices
   float weight;            // Mix: weight of b
-  float params[kMaxWavelengths];  // Color: 3 floats; Spectrum: one per wavelength
+  float params[kMaxWavelengths];   // Color: 3 floats; Spectrum: one per wavelength
+  // Appended fields (older kinds leave them zero):
+  float params2[kMaxWavelengths];  // Conductor: k (params holds eta)
+  ClosureParam param2Kind;         // how `params2` is to be read
+  uint32_t flags;                  // kClosureVariesWithWavelength
 };
+static_assert(offsetof(ClosureNode, params) == 20 && offsetof(ClosureNode, params2) == 52 &&
+                  offsetof(ClosureNode, param2Kind) == 84 && offsetof(ClosureNode, flags) == 88 &&
+                  sizeof(ClosureNode) == 92,
+              "ClosureNode layout is part of the ABI (docs/abi.md)");
 
 // A bump arena the compiled code appends closure nodes to; a Material value is an index.
 struct ClosureArena {

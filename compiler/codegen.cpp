@@ -17,6 +17,7 @@
 
 #include "compiler/abi.h"
 #include "compiler/canonical_ir.h"
+#include "lang/wavelength_dependence.h"
 
 namespace tex::compiler {
 
@@ -32,7 +33,7 @@ namespace {
 class Codegen {
  public:
   Codegen(llvm::LLVMContext& c, const lang::ir::Program& p, const CodegenOptions& o)
-      : context_(c), program_(p), options_(o), module_(std::make_unique<llvm::Module>("tex", c)), b_(c) {
+      : context_(c), program_(p), options_(o), module_(std::make_unique<llvm::Module>("tex", c)), b_(c), dependence_(p) {
     ptrTy_ = llvm::PointerType::get(c, 0);
     f32_ = llvm::Type::getFloatTy(c);
     i32_ = llvm::Type::getInt32Ty(c);
@@ -45,14 +46,15 @@ class Codegen {
   std::unique_ptr<llvm::Module> run(const std::vector<int>& entries, std::string& error) {
     countCallSites(entries);
     for (size_t k = 0; k < entries.size(); ++k) {
-      llvm::Function* fn = function(entries[k]);
-      emitEntry(entries[k], fn, k);
+      int e = entries[k];
+      llvm::Function* fn = function(e, dependence_.buildsMaterial(e) ? dependence_.entryContext(e) : -1);
+      emitEntry(e, fn, k);
     }
     // Bodies are generated on demand by function(); drain the queue.
     while (!pending_.empty()) {
-      int index = pending_.back();
+      FunctionKey key = pending_.back();
       pending_.pop_back();
-      emitBody(index);
+      emitBody(key);
     }
     std::string message;
     llvm::raw_string_ostream out(message);
@@ -89,14 +91,21 @@ class Codegen {
   }
 
   // ---- functions -----------------------------------------------------------------------
-  llvm::Function* function(int index) {
-    if (auto it = functions_.find(index); it != functions_.end()) return it->second;
+  // An IR function that builds materials gets one LLVM function per wavelength-dependence
+  // context (lang/wavelength_dependence.h), since its closure flags may differ; any other
+  // function gets one (context -1).
+  using FunctionKey = std::pair<int, int>;  // (IR function, context or -1)
+
+  llvm::Function* function(int index, int context) {
+    FunctionKey key{index, context};
+    if (auto it = functions_.find(key); it != functions_.end()) return it->second;
     const lang::ir::Function& f = program_.functions[size_t(index)];
     std::vector<llvm::Type*> params = {ptrTy_};
     for (const Type* t : f.paramTypes) params.push_back(lower(t));
     auto* type = llvm::FunctionType::get(lower(f.resultType), params, false);
     std::string name = "f";
     name += std::to_string(index);
+    if (context >= 0) name += ".c" + std::to_string(context);
     auto* fn = llvm::Function::Create(type, llvm::Function::InternalLinkage, name, *module_);
     fn->addFnAttr(llvm::Attribute::NoUnwind);
     fn->addFnAttr(llvm::Attribute::WillReturn);
@@ -106,14 +115,21 @@ class Codegen {
       if (sites <= 1 || size <= options_.alwaysInlineSize || size * (sites - 1) <= options_.maxDuplicatedNodes)
         fn->addFnAttr(llvm::Attribute::AlwaysInline);
     }
-    functions_[index] = fn;
-    pending_.push_back(index);
+    functions_[key] = fn;
+    pending_.push_back(key);
     return fn;
   }
 
-  void emitBody(int index) {
-    const lang::ir::Function& f = program_.functions[size_t(index)];
-    llvm::Function* fn = functions_[index];
+  // The callee of a Call or Fold node in the function being emitted.
+  llvm::Function* callee(const Node* n) {
+    bool contextual = dependenceContext_ >= 0 && dependence_.buildsMaterial(n->callee);
+    return function(n->callee, contextual ? dependence_.calleeContext(dependenceContext_, n) : -1);
+  }
+
+  void emitBody(FunctionKey key) {
+    const lang::ir::Function& f = program_.functions[size_t(key.first)];
+    llvm::Function* fn = functions_[key];
+    dependenceContext_ = key.second;
     auto* entry = llvm::BasicBlock::Create(context_, "entry", fn);
     b_.SetInsertPoint(entry);
     ctx_ = fn->getArg(0);
@@ -222,7 +238,7 @@ class Codegen {
       case Node::Kind::Call: {
         std::vector<llvm::Value*> args = {ctx_};
         for (const Node* a : n->args) args.push_back(gen(a));
-        return b_.CreateCall(function(n->callee), args);
+        return b_.CreateCall(callee(n), args);
       }
       case Node::Kind::MakeRecord: {
         llvm::Value* v = llvm::PoisonValue::get(lower(n->type));
@@ -306,7 +322,7 @@ class Codegen {
     llvm::Value* count = gen(n->args[0]);
     llvm::Value* init = gen(n->args[1]);
     llvm::Value* closure = n->args.size() > 2 ? gen(n->args[2]) : nullptr;
-    llvm::Function* step = function(n->callee);
+    llvm::Function* step = callee(n);
     llvm::BasicBlock* pre = b_.GetInsertBlock();
     llvm::Function* fn = pre->getParent();
     auto* header = llvm::BasicBlock::Create(context_, "fold.header", fn);
@@ -560,18 +576,9 @@ class Codegen {
         return v;
       }
       case Prim::MatDiffuse:
-      case Prim::MatEmission: {
-        const Type* paramType = n->args[0]->type;
-        int count = lanes(paramType);
-        llvm::AllocaInst* buffer = entryAlloca(llvm::ArrayType::get(f32_, kMaxWavelengths));
-        for (int i = 0; i < count; ++i)
-          b_.CreateStore(b_.CreateExtractElement(a[0], uint64_t(i)), b_.CreateConstInBoundsGEP2_32(buffer->getAllocatedType(), buffer, 0, unsigned(i)));
-        uint32_t kind = uint32_t(n->prim == Prim::MatDiffuse ? ClosureKind::Diffuse : ClosureKind::Emission);
-        uint32_t paramKind = uint32_t(paramType->kind == TypeKind::Color ? ClosureParam::Color : ClosureParam::Spectrum);
-        llvm::FunctionCallee leaf = module_->getOrInsertFunction(
-            "tex_rt_closure_leaf", llvm::FunctionType::get(i32_, {ptrTy_, i32_, i32_, ptrTy_, i32_}, false));
-        return b_.CreateCall(leaf, {ctx_, b_.getInt32(kind), b_.getInt32(paramKind), buffer, b_.getInt32(uint32_t(count))});
-      }
+      case Prim::MatEmission:
+      case Prim::MatDielectric:
+      case Prim::MatConductor: return genMaterialLeaf(n, a);
       case Prim::MatMix: {
         llvm::FunctionCallee mix = module_->getOrInsertFunction(
             "tex_rt_closure_mix", llvm::FunctionType::get(i32_, {ptrTy_, i32_, i32_, f32_}, false));
@@ -579,6 +586,31 @@ class Codegen {
       }
     }
     return llvm::PoisonValue::get(lower(n->type));
+  }
+
+  // A material leaf: its parameter vectors go through stack buffers to tex_rt_closure_leaf.
+  llvm::Value* genMaterialLeaf(const Node* n, const std::vector<llvm::Value*>& a) {
+    auto paramKind = [](const Type* t) { return uint32_t(t->kind == TypeKind::Color ? ClosureParam::Color : ClosureParam::Spectrum); };
+    auto buffer = [&](size_t i) -> llvm::Value* {
+      if (i >= a.size()) return llvm::ConstantPointerNull::get(llvm::PointerType::get(context_, 0));
+      llvm::AllocaInst* to = entryAlloca(llvm::ArrayType::get(f32_, kMaxWavelengths));
+      for (int k = 0; k < lanes(n->args[i]->type); ++k)
+        b_.CreateStore(b_.CreateExtractElement(a[i], uint64_t(k)), b_.CreateConstInBoundsGEP2_32(to->getAllocatedType(), to, 0, unsigned(k)));
+      return to;
+    };
+    ClosureKind kind = n->prim == Prim::MatDiffuse    ? ClosureKind::Diffuse
+                       : n->prim == Prim::MatEmission ? ClosureKind::Emission
+                       : n->prim == Prim::MatDielectric ? ClosureKind::Dielectric
+                                                        : ClosureKind::Conductor;
+    bool two = a.size() > 1;
+    uint32_t flags = dependence_.flags(dependenceContext_, n);
+    llvm::FunctionCallee leaf = module_->getOrInsertFunction(
+        "tex_rt_closure_leaf",
+        llvm::FunctionType::get(i32_, {ptrTy_, i32_, i32_, i32_, ptrTy_, i32_, i32_, ptrTy_, i32_}, false));
+    return b_.CreateCall(leaf, {ctx_, b_.getInt32(uint32_t(kind)), b_.getInt32(flags), b_.getInt32(paramKind(n->args[0]->type)),
+                                buffer(0), b_.getInt32(uint32_t(lanes(n->args[0]->type))),
+                                b_.getInt32(two ? paramKind(n->args[1]->type) : 0u), buffer(1),
+                                b_.getInt32(two ? uint32_t(lanes(n->args[1]->type)) : 0u)});
   }
 
   llvm::AllocaInst* entryAlloca(llvm::Type* type) {
@@ -595,9 +627,11 @@ class Codegen {
   llvm::Type *ptrTy_, *f32_, *i32_, *i1_;
   llvm::MDNode* unpredictable_;  // for if-expressions
   llvm::MDNode* likely_;         // branch weights: the first successor is the common case
-  std::map<int, llvm::Function*> functions_;
+  lang::ir::WavelengthDependence dependence_;  // closure flags, analysed once per compile
+  std::map<FunctionKey, llvm::Function*> functions_;
   std::map<int, uint64_t> callSites_, ownSize_;
-  std::vector<int> pending_;
+  std::vector<FunctionKey> pending_;
+  int dependenceContext_ = -1;  // the wavelength-dependence context of the function being emitted
   llvm::Value* ctx_ = nullptr;
   std::vector<llvm::Value*> slots_;
 };

@@ -33,7 +33,7 @@ namespace tex::compiler {
 namespace {
 
 // Bump on every change to code generation: it is part of every cache key.
-constexpr const char* kCompilerVersion = "tex-compiler-9";
+constexpr const char* kCompilerVersion = "tex-compiler-10";
 
 std::string errorText(llvm::Error error) { return llvm::toString(std::move(error)); }
 

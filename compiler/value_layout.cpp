@@ -28,21 +28,33 @@ std::shared_ptr<const lang::MaterialNode> materialFromArena(const ClosureArena* 
   const ClosureNode& node = arena->nodes[index];
   auto m = std::make_shared<lang::MaterialNode>();
   auto& types = lang::TypeTable::global();
+  auto param = [&](ClosureParam kind, const float* from, const lang::Type*& type, lang::Value& value) {
+    type = kind == ClosureParam::Color ? types.color() : types.spectrum();
+    int n = kind == ClosureParam::Color ? 3 : wavelengths;
+    for (int i = 0; i < n; ++i) value.f[i] = from[i];
+  };
+  m->flags = node.flags;
   switch (node.kind) {
     case ClosureKind::Diffuse:
-    case ClosureKind::Emission: {
-      m->kind = node.kind == ClosureKind::Diffuse ? lang::MaterialNode::Kind::Diffuse : lang::MaterialNode::Kind::Emission;
-      m->paramType = node.paramKind == ClosureParam::Color ? types.color() : types.spectrum();
-      int n = node.paramKind == ClosureParam::Color ? 3 : wavelengths;
-      for (int i = 0; i < n; ++i) m->param.f[i] = node.params[i];
+    case ClosureKind::Emission:
+    case ClosureKind::Dielectric:
+      m->kind = node.kind == ClosureKind::Diffuse    ? lang::MaterialNode::Kind::Diffuse
+                : node.kind == ClosureKind::Emission ? lang::MaterialNode::Kind::Emission
+                                                     : lang::MaterialNode::Kind::Dielectric;
+      param(node.paramKind, node.params, m->paramType, m->param);
       break;
-    }
+    case ClosureKind::Conductor:
+      m->kind = lang::MaterialNode::Kind::Conductor;
+      param(node.paramKind, node.params, m->paramType, m->param);
+      param(node.param2Kind, node.params2, m->param2Type, m->param2);
+      break;
     case ClosureKind::Mix:
       m->kind = lang::MaterialNode::Kind::Mix;
       m->a = materialFromArena(arena, node.a, wavelengths, depth + 1);
       m->b = materialFromArena(arena, node.b, wavelengths, depth + 1);
       m->weight = node.weight;
       break;
+    default: return nullptr;  // a kind this compiler never produces
   }
   return m;
 }

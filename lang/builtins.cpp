@@ -1,6 +1,7 @@
 // The prelude's builtins (docs/language.md section 6): typing, and their expansion into
 // core IR primitives. Composite builtins (mix, smoothstep, normalize, ...) are expanded here
 // so the IR, the interpreter and the compiler only know a small set of primitives.
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -29,8 +30,15 @@ const std::set<std::string>& otherBuiltins() {
       "abs", "fract", "min", "max", "clamp", "pow", "atan2", "mod", "mix", "step", "smoothstep",
       "dot", "length", "distance", "normalize", "cross", "float", "int", "is_nan", "is_inf",
       "vec2", "vec3", "vec4", "rgb", "color", "luminance", "spectrum", "fold", "diffuse",
-      "emission", "mix_material"};
+      "emission", "mix_material", "dielectric", "conductor"};
   return names;
+}
+
+// Builtins whose parameters may also be given by name (`dielectric(ior: 1.5)`).
+const std::map<std::string, std::vector<std::string>>& namedBuiltinParams() {
+  static const std::map<std::string, std::vector<std::string>> table = {{"dielectric", {"ior"}},
+                                                                         {"conductor", {"eta", "k"}}};
+  return table;
 }
 
 }  // namespace
@@ -51,7 +59,46 @@ Node* Builder::builtinConstant(const std::string& name, Span span) {
   return prim(Prim::Wavelengths, types.spectrum(), {}, span);  // lambda_nm
 }
 
+// Puts named arguments in parameter order (positional ones come first: the parser checks it).
+// Returns false after reporting E0406 (unknown name) or E0407 (repeated or missing).
+bool Builder::orderBuiltinArgs(const std::string& name, const std::vector<std::string>& params,
+                               std::vector<TypedArg>& args, Span calleeSpan) {
+  std::vector<const TypedArg*> slots(std::max(params.size(), args.size()), nullptr);
+  for (size_t i = 0; i < args.size(); ++i) {
+    const TypedArg& a = args[i];
+    if (a.name.empty()) {
+      slots[i] = &a;
+      continue;
+    }
+    size_t at = size_t(std::find(params.begin(), params.end(), a.name) - params.begin());
+    if (at == params.size()) {
+      error("E0406", a.nameSpan, "builtin '" + name + "' has no parameter named '" + a.name + "'");
+      return false;
+    }
+    if (slots[at]) {
+      error("E0407", a.nameSpan, "parameter '" + a.name + "' is given twice");
+      return false;
+    }
+    slots[at] = &a;
+  }
+  std::vector<TypedArg> ordered;
+  for (size_t i = 0; i < slots.size(); ++i) {
+    if (!slots[i]) {
+      error("E0407", calleeSpan, "missing argument for parameter '" + params[i] + "' of '" + name + "'");
+      return false;
+    }
+    ordered.push_back(*slots[i]);
+    ordered.back().name.clear();
+  }
+  args = std::move(ordered);
+  return true;
+}
+
 Node* Builder::builtinCall(const std::string& name, std::vector<TypedArg> args, Span calleeSpan, Span callSpan) {
+  if (auto it = namedBuiltinParams().find(name); it != namedBuiltinParams().end()) {
+    bool anyNamed = std::any_of(args.begin(), args.end(), [](const TypedArg& a) { return !a.name.empty(); });
+    if (anyNamed && !orderBuiltinArgs(name, it->second, args, calleeSpan)) return errorNode(callSpan);
+  }
   for (auto& a : args) {
     if (a.node->type->isError()) return errorNode(callSpan);
     if (!a.name.empty()) {
@@ -244,6 +291,32 @@ Node* Builder::builtinCall(const std::string& name, std::vector<TypedArg> args, 
     if (kind(0) == TypeKind::Int || kind(0) == TypeKind::Float) x = splatTo(x, types.spectrum(), callSpan);
     if (x->type->kind != TypeKind::Color && x->type->kind != TypeKind::Spectrum) return noOverload("a Color or Spectrum");
     return prim(name == "diffuse" ? Prim::MatDiffuse : Prim::MatEmission, types.material(), {x}, callSpan);
+  }
+  if (name == "dielectric") {
+    // The interior's IOR relative to the outside; a Float is a constant spectrum.
+    if (!arity(1)) return noOverload("an IOR: a Float or Spectrum");
+    Node* ior = args[0].node;
+    if (kind(0) == TypeKind::Int || kind(0) == TypeKind::Float) ior = splatTo(ior, types.spectrum(), callSpan);
+    if (ior->type->kind != TypeKind::Spectrum) return noOverload("an IOR: a Float or Spectrum");
+    return prim(Prim::MatDielectric, types.material(), {ior}, callSpan);
+  }
+  if (name == "conductor") {
+    // eta and k each a Color or Spectrum; a Float takes the other's type if that is a Color,
+    // else it is a constant spectrum.
+    const char* expected = "(eta, k), each a Color, Spectrum or Float";
+    if (!arity(2)) return noOverload(expected);
+    auto isScalar = [&](size_t i) { return kind(i) == TypeKind::Int || kind(i) == TypeKind::Float; };
+    Node* params[2];
+    for (size_t i = 0; i < 2; ++i) {
+      Node* x = args[i].node;
+      if (isScalar(i)) {
+        bool otherIsColor = kind(1 - i) == TypeKind::Color;
+        x = splatTo(x, otherIsColor ? types.color() : types.spectrum(), callSpan);
+      }
+      if (x->type->kind != TypeKind::Color && x->type->kind != TypeKind::Spectrum) return noOverload(expected);
+      params[i] = x;
+    }
+    return prim(Prim::MatConductor, types.material(), {params[0], params[1]}, callSpan);
   }
   if (name == "mix_material") {
     if (!arity(3) || kind(0) != TypeKind::Material || kind(1) != TypeKind::Material ||

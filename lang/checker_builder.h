@@ -54,6 +54,8 @@ class Builder {
 
   // builtins.cpp
   ir::Node* builtinCall(const std::string& name, std::vector<TypedArg> args, Span calleeSpan, Span callSpan);
+  bool orderBuiltinArgs(const std::string& name, const std::vector<std::string>& params, std::vector<TypedArg>& args,
+                        Span calleeSpan);
   ir::Node* builtinConstant(const std::string& name, Span span);
 
   Diagnostic* error(const std::string& code, Span span, std::string message, std::string help = {});

@@ -13,8 +13,8 @@ const char* primName(Prim p) {
       "iadd", "isub", "imul", "idiv", "irem", "ineg", "iand", "ior", "ixor", "ishl", "ishr",
       "inot", "imin", "imax", "iabs", "ilt", "ile", "igt", "ige", "ieq", "ine",
       "bnot", "beq", "bne", "itof", "ftoi", "splat", "concat", "swizzle", "dot", "wavelengths",
-      "mat_diffuse", "mat_emission", "mat_mix"};
-  static_assert(sizeof(names) / sizeof(names[0]) == size_t(Prim::MatMix) + 1, "primName table out of date");
+      "mat_diffuse", "mat_emission", "mat_mix", "mat_dielectric", "mat_conductor"};
+  static_assert(sizeof(names) / sizeof(names[0]) == size_t(Prim::MatConductor) + 1, "primName table out of date");
   return names[size_t(p)];
 }
 

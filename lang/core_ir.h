@@ -41,7 +41,13 @@ enum class Prim : uint8_t {
   MatDiffuse,   // Color|Spectrum -> Material
   MatEmission,  // Color|Spectrum -> Material
   MatMix,       // (Material, Material, Float) -> Material
+  MatDielectric,  // Spectrum (interior IOR over exterior) -> Material
+  MatConductor,   // (eta: Color|Spectrum, k: Color|Spectrum) -> Material
 };
+// True for the material leaves, whose closure nodes carry parameters (and flags).
+inline bool isMaterialLeaf(Prim p) {
+  return p == Prim::MatDiffuse || p == Prim::MatEmission || p == Prim::MatDielectric || p == Prim::MatConductor;
+}
 const char* primName(Prim p);
 
 struct Node {

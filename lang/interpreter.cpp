@@ -2,6 +2,9 @@
 
 #include <cmath>
 #include <limits>
+#include <memory>
+
+#include "lang/wavelength_dependence.h"
 
 namespace tex::lang {
 
@@ -35,7 +38,7 @@ float fsign(float x) { return x > 0 ? 1.0f : x < 0 ? -1.0f : x; }
 
 class Interpreter {
  public:
-  Interpreter(const ir::Program& p, const WavelengthGroup& g) : program_(p), group_(g) {}
+  Interpreter(const ir::Program& p, const WavelengthGroup& g, int entry) : program_(p), group_(g), entry_(entry) {}
 
   Value call(int function, std::vector<Value> args) {
     const ir::Function& fn = program_.functions[size_t(function)];
@@ -66,7 +69,10 @@ class Interpreter {
         std::vector<Value> args;
         args.reserve(n->args.size());
         for (const Node* a : n->args) args.push_back(eval(a, slots));
-        return call(n->callee, std::move(args));
+        stack_.push_back(n);
+        Value result = call(n->callee, std::move(args));
+        stack_.pop_back();
+        return result;
       }
       case Node::Kind::MakeRecord: {
         auto fields = std::make_shared<std::vector<Value>>();
@@ -85,6 +91,7 @@ class Interpreter {
         Value acc = eval(n->args[1], slots);
         bool hasClosure = n->args.size() > 2;
         Value closure = hasClosure ? eval(n->args[2], slots) : Value{};
+        stack_.push_back(n);
         for (int32_t i = 0; i < count; ++i) {
           std::vector<Value> args;
           if (hasClosure) args.push_back(closure);
@@ -92,6 +99,7 @@ class Interpreter {
           args.push_back(Value::ofInt(i));
           acc = call(n->callee, std::move(args));
         }
+        stack_.pop_back();
         return acc;
       }
     }
@@ -238,11 +246,21 @@ class Interpreter {
         return r;
       }
       case Prim::MatDiffuse:
-      case Prim::MatEmission: {
+      case Prim::MatEmission:
+      case Prim::MatDielectric:
+      case Prim::MatConductor: {
         auto m = std::make_shared<MaterialNode>();
-        m->kind = n->prim == Prim::MatDiffuse ? MaterialNode::Kind::Diffuse : MaterialNode::Kind::Emission;
+        m->kind = n->prim == Prim::MatDiffuse    ? MaterialNode::Kind::Diffuse
+                  : n->prim == Prim::MatEmission ? MaterialNode::Kind::Emission
+                  : n->prim == Prim::MatDielectric ? MaterialNode::Kind::Dielectric
+                                                   : MaterialNode::Kind::Conductor;
         m->paramType = n->args[0]->type;
         m->param = eval(n->args[0], slots);
+        if (n->args.size() > 1) {
+          m->param2Type = n->args[1]->type;
+          m->param2 = eval(n->args[1], slots);
+        }
+        m->flags = leafFlags(n);
         Value v;
         v.material = std::move(m);
         return v;
@@ -261,14 +279,29 @@ class Interpreter {
     return {};
   }
 
+  // The leaf's flags in the context of the current call path (analysed on first use, so
+  // programs that build no material pay nothing).
+  uint32_t leafFlags(const Node* n) {
+    if (!dependence_) dependence_ = std::make_unique<ir::WavelengthDependence>(program_);
+    int context = dependence_->entryContext(entry_);
+    for (const Node* call : stack_) {
+      if (context < 0) return 0;
+      context = dependence_->calleeContext(context, call);
+    }
+    return context < 0 ? 0 : dependence_->flags(context, n);
+  }
+
   const ir::Program& program_;
   const WavelengthGroup& group_;
+  int entry_;
+  std::vector<const Node*> stack_;  // the Call and Fold nodes from the entry to here
+  std::unique_ptr<ir::WavelengthDependence> dependence_;
 };
 
 }  // namespace
 
 Value evaluate(const ir::Program& program, int function, const std::vector<Value>& args, const WavelengthGroup& group) {
-  return Interpreter(program, group).call(function, args);
+  return Interpreter(program, group, function).call(function, args);
 }
 
 static Value floats(std::initializer_list<float> xs) {

@@ -27,9 +27,18 @@ static std::string lanes(const char* prefix, const Value& v, int n) {
 
 static std::string formatMaterial(const MaterialNode* m, const WavelengthGroup& group) {
   if (!m) return "<material>";
+  // A leaf prints as the call that builds it; ", varying" marks a wavelength-dependent one.
+  auto leaf = [&](const char* name, bool two) {
+    std::string s = std::string(name) + "(" + formatValue(m->param, m->paramType, group);
+    if (two) s += ", " + formatValue(m->param2, m->param2Type, group);
+    if (m->flags & kMaterialVariesWithWavelength) s += ", varying";
+    return s + ")";
+  };
   switch (m->kind) {
-    case MaterialNode::Kind::Diffuse: return "diffuse(" + formatValue(m->param, m->paramType, group) + ")";
-    case MaterialNode::Kind::Emission: return "emission(" + formatValue(m->param, m->paramType, group) + ")";
+    case MaterialNode::Kind::Diffuse: return leaf("diffuse", false);
+    case MaterialNode::Kind::Emission: return leaf("emission", false);
+    case MaterialNode::Kind::Dielectric: return leaf("dielectric", false);
+    case MaterialNode::Kind::Conductor: return leaf("conductor", true);
     case MaterialNode::Kind::Mix:
       return "mix_material(" + formatMaterial(m->a.get(), group) + ", " + formatMaterial(m->b.get(), group) + ", " +
              formatFloat(m->weight) + ")";

@@ -27,12 +27,19 @@ struct Value {
 
 // A closure tree: the renderer issues grow the set of lobes.
 struct MaterialNode {
-  enum class Kind { Diffuse, Emission, Mix } kind = Kind::Diffuse;
-  const Type* paramType = nullptr;  // Color or Spectrum (Diffuse, Emission)
-  Value param;                      // albedo or radiance
+  enum class Kind { Diffuse, Emission, Mix, Dielectric, Conductor } kind = Kind::Diffuse;
+  const Type* paramType = nullptr;   // Color or Spectrum (Diffuse, Emission, Dielectric, Conductor)
+  Value param;                       // albedo, radiance, IOR or the conductor's eta
+  const Type* param2Type = nullptr;  // Conductor: Color or Spectrum
+  Value param2;                      // Conductor: k (extinction)
+  uint32_t flags = 0;                // kMaterialVariesWithWavelength (decided statically)
   std::shared_ptr<const MaterialNode> a, b;  // Mix
   float weight = 0;                          // Mix: weight of b
 };
+
+// MaterialNode::flags bit 0: the node's parameters depend on the wavelength (lambda_nm); the
+// same bit as compiler::kClosureVariesWithWavelength (docs/abi.md, "Materials").
+constexpr uint32_t kMaterialVariesWithWavelength = 1;
 
 // The wavelengths at which Spectrum values are evaluated.
 struct WavelengthGroup {
