@@ -1,0 +1,138 @@
+#include "renderer/lights/image_environment.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "renderer/core/warp.h"
+#include "renderer/lights/constant_environment.h"
+#include "renderer/spectra/rgb_spectrum.h"
+
+namespace tex::render {
+
+namespace {
+
+// Y of linear sRGB (Rec. 709 primaries, D65): an illuminant rgb (1,1,1) has Y = 1.
+float luminanceOf(const Vec3& rgb) { return 0.2126729f * rgb.x + 0.7151522f * rgb.y + 0.0721750f * rgb.z; }
+
+float rowCosTheta(int row, int height) { return std::cos(kPi * float(row) / float(height)); }
+
+}  // namespace
+
+ImageEnvironment::ImageEnvironment(const RgbImage& image, const Mat4& environmentToWorld, float scale)
+    : width_(image.width), height_(image.height) {
+  for (int c = 0; c < 3; ++c) {
+    const Vec3 axis(environmentToWorld[c]);
+    const float len = std::sqrt(lengthSquared(axis));
+    toWorld_[c] = len > 0.0f ? axis / len : Vec3(c == 0, c == 1, c == 2);
+  }
+  const size_t pixels = size_t(width_) * size_t(height_);
+  rgb_.resize(pixels * 3);
+  luminance_.resize(pixels);
+  for (size_t i = 0; i < pixels; ++i) {
+    Vec3 c;
+    for (int k = 0; k < 3; ++k) {
+      const float v = image.rgb[i * 3 + k] * scale;
+      c[k] = std::isfinite(v) && v > 0.0f ? v : 0.0f;  // negative or broken pixels emit nothing
+      rgb_[i * 3 + k] = c[k];
+    }
+    luminance_[i] = std::max(0.0f, luminanceOf(c));
+  }
+  std::vector<float> rowWeights(size_t(height_), 0.0f);
+  columns_.reserve(size_t(height_));
+  for (int y = 0; y < height_; ++y) {
+    std::vector<float> row(luminance_.begin() + ptrdiff_t(y) * width_, luminance_.begin() + ptrdiff_t(y + 1) * width_);
+    columns_.emplace_back(row);
+    const float dCos = rowCosTheta(y, height_) - rowCosTheta(y + 1, height_);
+    rowWeights[size_t(y)] = float(columns_.back().total()) * dCos;
+  }
+  rows_ = PiecewiseConstant1D(rowWeights);
+  // Each pixel spans (2 pi / width) in phi.
+  luminanceIntegral_ = float(rows_.total() * 2.0 * double(kPi) / double(std::max(width_, 1)));
+}
+
+ImageEnvironment::Pixel ImageEnvironment::pixelOf(const Vec3& wWorld) const {
+  const Vec2 uv = directionToSphericalYUp(glm::transpose(toWorld_) * wWorld);
+  return {std::clamp(int(uv.x * float(width_)), 0, width_ - 1), std::clamp(int(uv.y * float(height_)), 0, height_ - 1)};
+}
+
+float ImageEnvironment::pdfW(Pixel p) const {
+  return luminanceIntegral_ > 0.0f ? luminance_[size_t(p.y) * size_t(width_) + size_t(p.x)] / luminanceIntegral_ : 0.0f;
+}
+
+Vec3 ImageEnvironment::rgb(Pixel p) const {
+  const size_t i = (size_t(p.y) * size_t(width_) + size_t(p.x)) * 3;
+  return Vec3(rgb_[i], rgb_[i + 1], rgb_[i + 2]);
+}
+
+bool ImageEnvironment::sampleDirection(Vec2 u, Vec3& wWorld, Pixel& pixel) const {
+  if (!(luminanceIntegral_ > 0.0f)) return false;
+  const PiecewiseConstant1D::Sample row = rows_.sample(u.y);
+  const PiecewiseConstant1D::Sample column = columns_[size_t(row.index)].sample(u.x);
+  pixel = {column.index, row.index};
+  // Uniform in solid angle inside the pixel: cos(theta) and phi uniform over its extent.
+  const float cos0 = rowCosTheta(row.index, height_), cos1 = rowCosTheta(row.index + 1, height_);
+  const float cosTheta = std::clamp(cos0 + (cos1 - cos0) * row.residual, -1.0f, 1.0f);
+  const float sinTheta = std::sqrt(std::max(0.0f, 1.0f - cosTheta * cosTheta));
+  const float phi = 2.0f * kPi * (float(column.index) + column.residual) / float(width_);
+  const Vec3 local(sinTheta * std::sin(phi), cosTheta, -sinTheta * std::cos(phi));  // as sphericalDirectionYUp
+  wWorld = glm::normalize(toWorld_ * local);
+  return pdfW(pixel) > 0.0f;
+}
+
+float ImageEnvironment::power() const { return kPi * sphere_.radius * sphere_.radius * luminanceIntegral_; }
+
+std::optional<LightLiSample> ImageEnvironment::sampleLi(const Vec3& refPoint, Vec2 u, const Wavelengths& lambda) const {
+  LightLiSample s;
+  Pixel pixel;
+  if (!sampleDirection(u, s.wi, pixel)) return std::nullopt;
+  s.pLight = refPoint + s.wi * (2.0f * sphere_.radius);
+  s.distance = kInfinity;
+  s.L = rgbIlluminantSpectrum(rgb(pixel), lambda);
+  s.pdfW = pdfW(pixel);  // the sampled pixel's density (pdfLi looks the same pixel up)
+  return s;
+}
+
+float ImageEnvironment::pdfLi(const Vec3& refPoint, const Vec3& wi, const EmitterPoint* onLight) const {
+  (void)refPoint;
+  (void)onLight;
+  return pdfW(pixelOf(wi));
+}
+
+std::optional<LightLeSample> ImageEnvironment::sampleLe(Vec2 uPos, Vec2 uDir, const Wavelengths& lambda) const {
+  Vec3 wToLight;
+  Pixel pixel;
+  if (!sampleDirection(uDir, wToLight, pixel)) return std::nullopt;
+  LightLeSample s;
+  s.ray = environmentEmittedRay(sphere_, wToLight, uPos);
+  s.nLight = -wToLight;
+  s.L = rgbIlluminantSpectrum(rgb(pixel), lambda);
+  s.pdfPosA = environmentDiskPdfA(sphere_);
+  s.pdfDirW = pdfW(pixel);
+  return s;
+}
+
+void ImageEnvironment::pdfLe(const Ray& ray, const Vec3& nLight, float& pdfPosA, float& pdfDirW) const {
+  (void)nLight;
+  pdfPosA = environmentDiskPdfA(sphere_);
+  pdfDirW = pdfW(pixelOf(-ray.direction));
+}
+
+Spectrum ImageEnvironment::Le(const Ray& ray, const Wavelengths& lambda) const {
+  return rgbIlluminantSpectrum(rgb(pixelOf(ray.direction)), lambda);
+}
+
+std::unique_ptr<ImageEnvironment> loadImageEnvironment(const std::string& path, const Mat4& environmentToWorld,
+                                                       float scale, std::string& error) {
+  RgbImage image;
+  error = readRgbImage(path, image);
+  if (error.empty() && (image.width <= 0 || image.height <= 0))
+    error = path + ": environment map has no pixels";
+  if (!error.empty()) {
+    if (error.find(path) == std::string::npos) error = path + ": " + error;
+    error = "environment map: " + error;
+    return nullptr;
+  }
+  return std::make_unique<ImageEnvironment>(image, environmentToWorld, scale);
+}
+
+}  // namespace tex::render

@@ -1,0 +1,35 @@
+// A discrete distribution proportional to non-negative weights, sampled by inverting its CDF
+// (pbrt-v4, section A.4.2): the building block of the environment map's 2D distribution.
+#pragma once
+#include <cstddef>
+#include <vector>
+
+namespace tex::render {
+
+class PiecewiseConstant1D {
+ public:
+  PiecewiseConstant1D() = default;
+  // Negative and non-finite weights count as 0.
+  explicit PiecewiseConstant1D(const std::vector<float>& weights);
+
+  int size() const { return int(weights_.size()); }
+  double total() const { return total_; }
+  float weight(int i) const { return weights_[size_t(i)]; }
+  // Probability of cell i (0 when every weight is 0).
+  float pmf(int i) const { return total_ > 0 ? float(weights_[size_t(i)] / total_) : 0.0f; }
+
+  struct Sample {
+    int index = 0;
+    float pmf = 0;
+    float residual = 0;  // where u fell inside the cell, in [0,1): a fresh uniform number
+  };
+  // Never returns a zero-weight cell; requires total() > 0.
+  Sample sample(float u) const;
+
+ private:
+  std::vector<float> weights_;
+  std::vector<double> cdf_;  // size + 1 entries, cdf_[0] = 0 (double: large maps sum many pixels)
+  double total_ = 0;
+};
+
+}  // namespace tex::render

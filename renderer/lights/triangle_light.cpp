@@ -1,0 +1,98 @@
+#include "renderer/lights/triangle_light.h"
+
+#include <cmath>
+
+#include "renderer/core/warp.h"
+
+namespace tex::render {
+
+TriangleLight::TriangleLight(const TriangleLightDesc& desc, const EmissionSource* emission)
+    : desc_(desc), emission_(emission) {
+  const Vec3 c = glm::cross(desc.p1 - desc.p0, desc.p2 - desc.p0);
+  const float len = std::sqrt(lengthSquared(c));
+  area_ = 0.5f * len;
+  if (len > 0.0f) {
+    n_ = c / len;
+    if (dot3(n_, desc.normal) < 0.0f) n_ = -n_;
+  }
+}
+
+float TriangleLight::power() const {
+  return emission_ && area_ > 0.0f ? kPi * area_ * emission_->averageRadiance() : 0.0f;
+}
+
+EmitterPoint TriangleLight::pointAt(Vec2 b) const {
+  const float b2 = 1.0f - b.x - b.y;
+  EmitterPoint e;
+  e.p = desc_.p0 * b.x + desc_.p1 * b.y + desc_.p2 * b2;
+  e.uv = desc_.uv0 * b.x + desc_.uv1 * b.y + desc_.uv2 * b2;
+  e.n = n_;
+  e.primitive = desc_.primitive;
+  return e;
+}
+
+Spectrum TriangleLight::L(const EmitterPoint& point, const Vec3& w, const Wavelengths& lambda) const {
+  if (!emission_ || !(dot3(w, n_) > 0.0f)) return Spectrum();
+  return emission_->radiance(point, lambda);
+}
+
+std::optional<LightLiSample> TriangleLight::sampleLi(const Vec3& refPoint, Vec2 u, const Wavelengths& lambda) const {
+  if (!(area_ > 0.0f) || !emission_) return std::nullopt;
+  const EmitterPoint e = pointAt(sampleUniformTriangle(u));
+  const Vec3 toLight = e.p - refPoint;
+  const float dist2 = lengthSquared(toLight);
+  if (!(dist2 > 0.0f)) return std::nullopt;
+  const float dist = std::sqrt(dist2);
+  const Vec3 wi = toLight / dist;
+  const float cosLight = -dot3(wi, n_);
+  if (!(cosLight > 0.0f)) return std::nullopt;  // the back side emits nothing
+  const float pdfW = areaToSolidAnglePdf(1.0f / area_, dist2, cosLight);
+  if (!std::isfinite(pdfW)) return std::nullopt;  // grazing: the density overflows
+  LightLiSample s;
+  s.L = emission_->radiance(e, lambda);
+  s.wi = wi;
+  s.pLight = e.p;
+  s.nLight = n_;
+  s.distance = dist;
+  s.pdfW = pdfW;
+  return s;
+}
+
+float TriangleLight::pdfLi(const Vec3& refPoint, const Vec3& wi, const EmitterPoint* onLight) const {
+  (void)wi;
+  if (!onLight || !(area_ > 0.0f)) return 0.0f;
+  const Vec3 toLight = onLight->p - refPoint;
+  const float dist2 = lengthSquared(toLight);
+  if (!(dist2 > 0.0f)) return 0.0f;
+  const float cosLight = -dot3(toLight, n_) / std::sqrt(dist2);
+  if (!(cosLight > 0.0f)) return 0.0f;
+  const float pdfW = areaToSolidAnglePdf(1.0f / area_, dist2, cosLight);
+  return std::isfinite(pdfW) ? pdfW : 0.0f;
+}
+
+std::optional<LightLeSample> TriangleLight::sampleLe(Vec2 uPos, Vec2 uDir, const Wavelengths& lambda) const {
+  if (!(area_ > 0.0f) || !emission_) return std::nullopt;
+  const EmitterPoint e = pointAt(sampleUniformTriangle(uPos));
+  const Vec3 wLocal = sampleCosineHemisphere(uDir);
+  if (!(wLocal.z > 0.0f)) return std::nullopt;
+  LightLeSample s;
+  s.ray.origin = e.p;
+  s.ray.direction = Frame::fromNormal(n_).toWorld(wLocal);
+  s.nLight = n_;
+  s.L = emission_->radiance(e, lambda);
+  s.pdfPosA = 1.0f / area_;
+  s.pdfDirW = cosineHemispherePdfW(wLocal.z);
+  return s;
+}
+
+void TriangleLight::pdfLe(const Ray& ray, const Vec3& nLight, float& pdfPosA, float& pdfDirW) const {
+  (void)nLight;
+  pdfPosA = area_ > 0.0f ? 1.0f / area_ : 0.0f;
+  pdfDirW = cosineHemispherePdfW(dot3(ray.direction, n_));
+}
+
+std::unique_ptr<Light> makeTriangleLight(const TriangleLightDesc& desc, const EmissionSource* emission) {
+  return std::make_unique<TriangleLight>(desc, emission);
+}
+
+}  // namespace tex::render
