@@ -63,8 +63,18 @@ int WavelengthDependence::context(int function, std::vector<bool> params) {
   return id;
 }
 
+bool WavelengthDependence::canDepend(const Type* t) {
+  auto [it, inserted] = typeHoldsSpectrum_.emplace(t, false);
+  if (inserted) it->second = holdsSpectrum(t);
+  return it->second;
+}
+
 // The dependence of `n`'s value; records leaf flags and callee contexts on the way.
 bool WavelengthDependence::walk(Context& c, const Node* n, std::vector<bool>& slots) {
+  return walkNode(c, n, slots) && canDepend(n->type);
+}
+
+bool WavelengthDependence::walkNode(Context& c, const Node* n, std::vector<bool>& slots) {
   auto anyArg = [&] {
     bool depends = false;
     for (const Node* a : n->args) depends = walk(c, a, slots) || depends;  // walk every argument

@@ -5,8 +5,10 @@
 //
 // A value depends on the wavelength if it is, or is computed from, `lambda_nm` (Prim::
 // Wavelengths) or an entry parameter whose type holds a Spectrum (the caller may pass anything).
-// Constants, splats of Floats and everything derived only from them do not. Records count as
-// one value (a field-insensitive, conservative choice).
+// Constants, splats of Floats and everything derived only from them do not. Only values whose
+// type holds a Spectrum can depend: no builtin reduces a Spectrum to a Float, Color or Bool
+// (spec 4.2), so `{s: lambda_nm, x: 1.5}.x` does not (revisit if such a builtin is added).
+// Records count as one value otherwise (a field-insensitive, conservative choice).
 //
 // The analysis is context-sensitive: a function is analysed once per pattern of
 // wavelength-dependent arguments (a "context"), so `glass(spectrum(1.5))` and
@@ -49,12 +51,15 @@ class WavelengthDependence {
   };
   int context(int function, std::vector<bool> params);
   bool walk(Context& c, const Node* n, std::vector<bool>& slots);
+  bool walkNode(Context& c, const Node* n, std::vector<bool>& slots);
+  bool canDepend(const Type* t);
   bool nodeBuildsMaterial(const Node* n);
 
   const Program& program_;
   std::map<std::pair<int, std::vector<bool>>, int> ids_;
   std::vector<std::unique_ptr<Context>> contexts_;
   std::map<int, bool> builds_;
+  std::map<const Type*, bool> typeHoldsSpectrum_;
 };
 
 // Whether a value of this type can carry a wavelength dependence (a Spectrum, or a record or
