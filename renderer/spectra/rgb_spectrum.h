@@ -18,6 +18,15 @@ struct SigmoidPolynomial {
 // Coefficients for a linear sRGB reflectance in [0,1]^3 (clamped into it).
 SigmoidPolynomial rgbToSigmoid(const Vec3& rgb);
 
+// An unbounded RGB as scale * shape(lambda): scale = 2 max(rgb) (0 for black; negative and NaN
+// components count as 0), shape = rgbToSigmoid(rgb / scale).
+struct RgbUnbounded {
+  SigmoidPolynomial shape;
+  float scale = 0;
+  float operator()(float lambdaNm) const { return scale * shape(lambdaNm); }
+};
+RgbUnbounded rgbToUnbounded(const Vec3& rgb);
+
 // The three uses of an RGB triple (as in pbrt-v4):
 //  - reflectance: clamped to [0,1], its spectrum stays in [0,1];
 //  - unbounded (scattering coefficients, IOR-like data): scale = 2 max(rgb), shape of rgb/scale;
@@ -27,6 +36,7 @@ Spectrum rgbReflectanceSpectrum(const Vec3& rgb, const Wavelengths& lambda);
 Spectrum rgbUnboundedSpectrum(const Vec3& rgb, const Wavelengths& lambda);
 Spectrum rgbIlluminantSpectrum(const Vec3& rgb, const Wavelengths& lambda);
 float rgbReflectanceAt(const Vec3& rgb, float lambdaNm);
+float rgbUnboundedAt(const Vec3& rgb, float lambdaNm);
 float rgbIlluminantAt(const Vec3& rgb, float lambdaNm);
 
 // D65 normalised so that its luminance Y is 1 under the radiance convention above.

@@ -8,6 +8,7 @@
 
 #include "renderer/core/spectrum.h"
 #include "renderer/scene/scene_description.h"
+#include "renderer/spectra/rgb_spectrum.h"
 
 namespace tex::render {
 
@@ -18,6 +19,8 @@ enum class SpectrumUse : uint8_t { Reflectance, Unbounded, Illuminant };
 class SpectrumSource {
  public:
   SpectrumSource() = default;  // zero everywhere
+  // Throws std::invalid_argument for an unknown name or a malformed table (sizes differ,
+  // wavelengths not increasing).
   SpectrumSource(const SpectrumDesc& desc, SpectrumUse use);
   static SpectrumSource constant(float value);
 
@@ -29,9 +32,16 @@ class SpectrumSource {
   bool isConstant() const;  // the same value at every wavelength
 
  private:
+  using Table = std::vector<std::pair<float, float>>;
+
   SpectrumDesc desc_;
   SpectrumUse use_ = SpectrumUse::Reflectance;
   float luminance_ = 0;
+  // Resolved at construction so that evaluation does no lookups: value = factor_ * shape(lambda).
+  float factor_ = 0;
+  SigmoidPolynomial sigmoid_;                 // Rgb
+  const Table* table_ = nullptr;              // Named (library-owned) or Tabulated (ownedTable_)
+  std::shared_ptr<const Table> ownedTable_;
 };
 
 // A named spectrum from the built-in library, or nullptr if unknown. Names: see

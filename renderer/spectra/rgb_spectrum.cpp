@@ -1,0 +1,137 @@
+#include "renderer/spectra/rgb_spectrum.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "renderer/color/cie_tables.h"
+#include "renderer/color/color.h"
+#include "renderer/spectra/rgb_table.h"
+
+namespace tex::render {
+
+namespace {
+
+float sigmoid(float x) {
+  // Beyond 1e18 x*x overflows; the limits are exact 0 and 1 (black and white use +-inf).
+  if (std::abs(x) > 1e18f) return x > 0.0f ? 1.0f : 0.0f;
+  return 0.5f + 0.5f * x / std::sqrt(1.0f + x * x);
+}
+
+float sanitise(float v) { return std::isnan(v) ? 0.0f : v; }
+
+// The flat spectrum of value v in [0,1]: sigmoid(c2) = v for c2 = (v - 1/2) / sqrt(v (1 - v)).
+SigmoidPolynomial flat(float v) {
+  SigmoidPolynomial p;
+  if (v <= 0.0f) {
+    p.c2 = -INFINITY;
+  } else if (v >= 1.0f) {
+    p.c2 = INFINITY;
+  } else {
+    p.c2 = float((double(v) - 0.5) / std::sqrt(double(v) * (1.0 - double(v))));
+  }
+  return p;
+}
+
+}  // namespace
+
+float SigmoidPolynomial::operator()(float lambdaNm) const {
+  return sigmoid(std::fma(std::fma(c0, lambdaNm, c1), lambdaNm, c2));
+}
+
+float SigmoidPolynomial::maxValue() const {
+  // The sigmoid is increasing, so the maximum is the quadratic's: at an end or at its vertex.
+  float m = std::max((*this)(360.0f), (*this)(830.0f));
+  if (c0 != 0.0f) {
+    const float vertexNm = -c1 / (2.0f * c0);
+    if (vertexNm > 360.0f && vertexNm < 830.0f) m = std::max(m, (*this)(vertexNm));
+  }
+  return m;
+}
+
+SigmoidPolynomial rgbToSigmoid(const Vec3& rgbIn) {
+  const float rgb[3] = {std::clamp(sanitise(rgbIn.x), 0.0f, 1.0f), std::clamp(sanitise(rgbIn.y), 0.0f, 1.0f),
+                        std::clamp(sanitise(rgbIn.z), 0.0f, 1.0f)};
+  if (rgb[0] == rgb[1] && rgb[1] == rgb[2]) return flat(rgb[0]);
+
+  const RgbSigmoidTable& table = rgbSigmoidTable();
+  const int res = table.resolution;
+  const int largest = rgb[0] > rgb[1] ? (rgb[0] > rgb[2] ? 0 : 2) : (rgb[1] > rgb[2] ? 1 : 2);
+  const float z = rgb[largest];  // > 0: not all equal
+  const float x = rgb[(largest + 1) % 3] / z * float(res - 1);
+  const float y = rgb[(largest + 2) % 3] / z * float(res - 1);
+  const int xi = std::min(int(x), res - 2), yi = std::min(int(y), res - 2);
+  const int zi = int(std::upper_bound(table.zNodes + 1, table.zNodes + res - 1, z) - table.zNodes) - 1;
+  const float dx = x - float(xi), dy = y - float(yi);
+  const float dz = (z - table.zNodes[zi]) / (table.zNodes[zi + 1] - table.zNodes[zi]);
+
+  // Trilinear interpolation of the coefficients.
+  float c[3] = {0, 0, 0};
+  for (int corner = 0; corner < 8; ++corner) {
+    const int ox = corner & 1, oy = (corner >> 1) & 1, oz = corner >> 2;
+    const float w = (ox ? dx : 1.0f - dx) * (oy ? dy : 1.0f - dy) * (oz ? dz : 1.0f - dz);
+    const float* cell = table.cell(largest, zi + oz, yi + oy, xi + ox);
+    c[0] += w * cell[0], c[1] += w * cell[1], c[2] += w * cell[2];
+  }
+  return {c[0], c[1], c[2]};
+}
+
+RgbUnbounded rgbToUnbounded(const Vec3& rgbIn) {
+  // As pbrt-v4's RGBUnboundedSpectrum: the shape's largest component is 1/2, leaving the
+  // fitted spectrum room above and below.
+  const Vec3 rgb(std::max(sanitise(rgbIn.x), 0.0f), std::max(sanitise(rgbIn.y), 0.0f),
+                 std::max(sanitise(rgbIn.z), 0.0f));
+  const float m = std::max({rgb.x, rgb.y, rgb.z});
+  if (!(m > 0.0f) || !std::isfinite(m)) return {};
+  const float scale = 2.0f * m;
+  return {rgbToSigmoid(rgb / scale), scale};
+}
+
+Spectrum rgbReflectanceSpectrum(const Vec3& rgb, const Wavelengths& lambda) {
+  const SigmoidPolynomial s = rgbToSigmoid(rgb);
+  return sampleSpectrum(lambda, [&](float l) { return s(l); });
+}
+
+Spectrum rgbUnboundedSpectrum(const Vec3& rgb, const Wavelengths& lambda) {
+  const RgbUnbounded u = rgbToUnbounded(rgb);
+  return sampleSpectrum(lambda, [&](float l) { return u(l); });
+}
+
+Spectrum rgbIlluminantSpectrum(const Vec3& rgb, const Wavelengths& lambda) {
+  const RgbUnbounded u = rgbToUnbounded(rgb);
+  return sampleSpectrum(lambda, [&](float l) { return u(l) * d65Normalised(l); });
+}
+
+float rgbReflectanceAt(const Vec3& rgb, float lambdaNm) { return rgbToSigmoid(rgb)(lambdaNm); }
+
+float rgbUnboundedAt(const Vec3& rgb, float lambdaNm) { return rgbToUnbounded(rgb)(lambdaNm); }
+
+float rgbIlluminantAt(const Vec3& rgb, float lambdaNm) {
+  return rgbToUnbounded(rgb)(lambdaNm) * d65Normalised(lambdaNm);
+}
+
+float d65Normalised(float lambdaNm) {
+  // Y = integral(L ybar) / integral(ybar) = 1 with the 1 nm quadrature of color/spectral_to_rgb.
+  static const float scale = [] {
+    double y = 0;
+    for (int i = 0; i < color::kCieSampleCount; ++i)
+      y += double(color::kCie1931Y[i]) * color::d65RelativePower(float(color::kCieLambdaMinNm + i));
+    return float(color::kCie1931YIntegralNm / y);
+  }();
+  return color::d65RelativePower(lambdaNm) * scale;
+}
+
+float blackbodyNormalised(float lambdaNm, float kelvin) {
+  if (!(kelvin > 0.0f) || !(lambdaNm > 0.0f)) return 0.0f;
+  // Planck's law; the constant 2 h c^2 cancels in the ratio to the peak (Wien's displacement
+  // law: lambdaMax = b / T, b = 2.897771955e-3 m K, CODATA 2018).
+  constexpr double kHcOverK = 1.438776877e-2;  // second radiation constant h c / k_B, m K
+  constexpr double kWienB = 2.897771955e-3;
+  const auto planckShape = [&](double lambdaM) {
+    return 1.0 / (std::pow(lambdaM, 5.0) * std::expm1(kHcOverK / (lambdaM * kelvin)));
+  };
+  const double peak = planckShape(kWienB / kelvin);
+  const double value = planckShape(double(lambdaNm) * 1e-9);
+  return std::isfinite(value) ? float(value / peak) : 0.0f;
+}
+
+}  // namespace tex::render
