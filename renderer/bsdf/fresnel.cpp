@@ -10,6 +10,7 @@ namespace tex::render {
 
 float fresnelDielectric(float cosThetaI, float eta) {
   if (eta == 1.0f) return 0.0f;  // index-matched: no interface (exactly, not ~1e-16 from rounding)
+  if (!(eta > 0.0f)) return 1.0f;  // invalid IOR (0, negative, NaN): a mirror rather than NaN
   cosThetaI = std::clamp(cosThetaI, -1.0f, 1.0f);
   if (cosThetaI < 0.0f) {  // light arrives from inside: the interface seen the other way round
     eta = 1.0f / eta;
