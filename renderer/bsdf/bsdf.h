@@ -14,6 +14,12 @@
 //    direction depends on the wavelength (a dielectric whose IOR varies with it: dispersion)
 //    samples with the hero wavelength (lane 0) and reports `dispersive`; the integrator then
 //    handles the other lanes (terminate them, or spectral MIS in a later issue).
+//    SmoothDielectric with etaVaries: only refraction is dispersive; its f has lanes 1.. set to
+//    0 (the hero-only estimate), so they cannot be misused. Its reflection is not dispersive
+//    (the mirror direction is the same for all wavelengths): every lane carries its own
+//    Fresnel R_i / |cos| over the hero's event probability R_0, an unbiased per-lane estimate.
+//  - Degenerate geometry (|cos| < 1e-6 with either normal, zero or NaN directions) gives no
+//    sample and a value and pdf of 0, never NaN or infinity.
 #pragma once
 #include <cstdint>
 #include <optional>
@@ -85,12 +91,17 @@ class Bsdf {
 
   // World-space interface. eval includes no cosine; the integrator multiplies |cos| with the
   // shading normal. In Importance mode the shading-normal correction
-  // |wo.ns| |wi.ng| / (|wo.ng| |wi.ns|) is applied (Veach 1997, section 5.3).
+  // |wo.ns| |wi.ng| / (|wo.ng| |wi.ns|) is applied (Veach 1997, section 5.3). Directions on
+  // which the two normals disagree (reflection by one, transmission by the other: a leak) have
+  // f = 0 and pdf = 0, and sample() drops them, so pdf() is the density sample() really has.
   Spectrum eval(const Vec3& woWorld, const Vec3& wiWorld, TransportMode mode) const;
   float pdf(const Vec3& woWorld, const Vec3& wiWorld, TransportMode mode) const;
-  // Chooses a lobe with probability proportional to its selection weight (the mean of its
-  // weight over the group), samples it, and returns the mixture's f and pdf for the chosen
-  // direction (for non-specular choices: all non-specular lobes' f and pdf summed).
+  // Chooses a lobe with probability proportional to its selection weight (the mean of |weight|
+  // over the group, computed as the sum over all 8 lanes since unused lanes are zero), samples
+  // it, and returns the mixture's f and pdf for the chosen direction (for non-specular choices:
+  // all non-specular lobes' f and their selection-weighted pdfs summed; for a specular choice:
+  // that lobe's f and its event probability times its selection probability). uc picks the
+  // lobe and is then stretched back to [0,1) for the lobe's own discrete choice.
   std::optional<BsdfSample> sample(const Vec3& woWorld, float uc, Vec2 u2, TransportMode mode) const;
 
  private:
