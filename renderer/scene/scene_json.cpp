@@ -1,0 +1,363 @@
+// The scene JSON format, section by section (docs/scene-format.md is the reference).
+#include "renderer/scene/scene_json.h"
+
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "renderer/scene/gltf_loader.h"
+#include "renderer/scene/scene_json_reader.h"
+#include "renderer/scene/shapes.h"
+
+namespace tex::render {
+
+namespace {
+
+constexpr float kDegrees = kPi / 180.0f;
+
+class SceneJsonLoader {
+ public:
+  SceneJsonLoader(SceneJsonReader& reader, SceneDescription& scene) : r_(reader), scene_(scene) {}
+
+  void load() {
+    const JsonAt root = r_.root();
+    if (!r_.checkKeys(root, {"gltf", "shapes", "pbr_materials", "materials", "camera", "cameras", "lights", "render"}))
+      if (!root.j->is_object()) return;
+    forEach("gltf", [&](const JsonAt& at) { gltf(at); });
+    if (const JsonAt m = r_.child(root, "pbr_materials"); m && r_.isObject(m))
+      for (auto it = m.j->begin(); it != m.j->end(); ++it) pbrMaterial(r_.child(m, it.key()), it.key());
+    forEach("shapes", [&](const JsonAt& at) { shape(at); });
+    forEach("materials", [&](const JsonAt& at) { binding(at); });
+    std::vector<CameraDesc> cameras;
+    if (const JsonAt c = r_.child(root, "camera")) {
+      if (r_.child(root, "cameras")) r_.error(c, "give \"camera\" or \"cameras\", not both");
+      camera(c, cameras);
+    }
+    forEach("cameras", [&](const JsonAt& at) { camera(at, cameras); });
+    // Cameras written in the scene file come before those of its glTF files.
+    scene_.cameras.insert(scene_.cameras.begin(), cameras.begin(), cameras.end());
+    forEach("lights", [&](const JsonAt& at) { light(at); });
+    if (const JsonAt render = r_.child(root, "render")) settings(render);
+    checkBindingsMatch();
+  }
+
+ private:
+  template <typename F>
+  void forEach(const char* key, F&& f) {
+    const JsonAt array = r_.child(r_.root(), key);
+    if (!array || !r_.isArray(array)) return;
+    for (size_t i = 0; i < array.j->size(); ++i) f(r_.element(array, i));
+  }
+
+  void gltf(const JsonAt& at) {
+    std::string file;
+    Mat4 transform(1.0f);
+    JsonAt fileAt = at;
+    if (at.j->is_string()) {
+      file = at.j->get<std::string>();
+    } else if (at.j->is_object()) {
+      if (!r_.checkKeys(at, {"file", "transform"})) return;
+      fileAt = r_.child(at, "file");
+      if (!fileAt) return r_.error(at, "missing \"file\"");
+      if (!r_.string(at, "file", file)) return;
+      if (const JsonAt t = r_.child(at, "transform"); t && !r_.transform(t, transform)) return;
+    } else {
+      return r_.error(at, "expected a file name or {\"file\": ..., \"transform\": ...}, got " +
+                              SceneJsonReader::typeName(*at.j));
+    }
+    std::string resolved;
+    if (!r_.existingFile(fileAt, file, resolved)) return;
+    std::vector<std::string> errors;
+    if (!appendGltf(resolved, transform, scene_, errors)) {
+      r_.error(fileAt, "could not load the glTF file:");
+      for (const std::string& e : errors) r_.error(fileAt, "  " + e);
+    }
+  }
+
+  int materialNamed(const std::string& name) const {
+    for (size_t i = 0; i < scene_.materials.size(); ++i)
+      if (scene_.materials[i].name == name) return int(i);
+    return -1;
+  }
+
+  void pbrMaterial(const JsonAt& at, const std::string& name) {
+    if (!r_.checkKeys(at, {"base_color", "metallic", "roughness", "emissive", "emissive_strength", "transmission",
+                           "ior", "dispersion", "double_sided"}))
+      return;
+    GltfMaterial m;
+    m.name = name;
+    m.metallicFactor = 0;  // a scene file's material is a dielectric unless it says otherwise
+    if (const JsonAt c = r_.child(at, "base_color")) {
+      std::vector<float> v;
+      if (!r_.vector(c, 3, 4, v)) return;
+      m.baseColorFactor = Vec4(v[0], v[1], v[2], v.size() == 4 ? v[3] : 1.0f);
+    }
+    bool ok = r_.number(at, "metallic", m.metallicFactor, 0, 1) && r_.number(at, "roughness", m.roughnessFactor, 0, 1) &&
+              r_.vec3(at, "emissive", m.emissiveFactor) && r_.number(at, "emissive_strength", m.emissiveStrength, 0) &&
+              r_.number(at, "transmission", m.transmissionFactor, 0, 1) && r_.number(at, "ior", m.ior, 1) &&
+              r_.number(at, "dispersion", m.dispersion, 0) && r_.boolean(at, "double_sided", m.doubleSided);
+    if (!ok) return;
+    if (materialNamed(name) >= 0) return r_.error(at, "a material named \"" + name + "\" already exists");
+    scene_.materials.push_back(m);
+  }
+
+  void shape(const JsonAt& at) {
+    if (!r_.isObject(at)) return;
+    std::string type;
+    if (!r_.string(at, "type", type)) return;
+    MeshPrimitive mesh;
+    if (type == "sphere") {
+      if (!r_.checkKeys(at, {"type", "name", "material", "transform", "center", "radius", "segments", "rings", "inward"}))
+        return;
+      Vec3 center(0.0f);
+      float radius = 1;
+      int segments = 64, rings = 32;
+      bool inward = false;
+      if (!r_.vec3(at, "center", center) || !r_.number(at, "radius", radius, 1e-30f) ||
+          !r_.integer(at, "segments", segments, 3, 4096) || !r_.integer(at, "rings", rings, 2, 4096) ||
+          !r_.boolean(at, "inward", inward))
+        return;
+      mesh = makeSphere(center, radius, segments, rings, inward);
+    } else if (type == "quad") {
+      if (!r_.checkKeys(at, {"type", "name", "material", "transform", "size", "corner", "edge1", "edge2"})) return;
+      Vec3 corner(0.0f), edge1(0.0f), edge2(0.0f);
+      if (r_.child(at, "corner") || r_.child(at, "edge1") || r_.child(at, "edge2")) {
+        if (r_.child(at, "size")) return r_.error(r_.child(at, "size"), "give \"size\" or corner/edge1/edge2, not both");
+        for (const char* k : {"corner", "edge1", "edge2"})
+          if (!r_.child(at, k)) return r_.error(at, std::string("missing \"") + k + "\"");
+        if (!r_.vec3(at, "corner", corner) || !r_.vec3(at, "edge1", edge1) || !r_.vec3(at, "edge2", edge2)) return;
+        if (!(glm::length(glm::cross(edge1, edge2)) > 0)) return r_.error(r_.child(at, "edge2"), "the edges are parallel");
+      } else {
+        // Default: centred on the origin in the xz plane, facing +y.
+        Vec2 size(1.0f);
+        if (const JsonAt s = r_.child(at, "size")) {
+          std::vector<float> v;
+          if (!r_.vector(s, 2, 2, v)) return;
+          if (!(v[0] > 0 && v[1] > 0)) return r_.error(s, "sizes must be > 0");
+          size = Vec2(v[0], v[1]);
+        }
+        corner = Vec3(-0.5f * size.x, 0, 0.5f * size.y);
+        edge1 = Vec3(size.x, 0, 0);
+        edge2 = Vec3(0, 0, -size.y);
+      }
+      mesh = makeQuad(corner, edge1, edge2);
+    } else if (type == "box") {
+      if (!r_.checkKeys(at, {"type", "name", "material", "transform", "center", "size", "inward"})) return;
+      Vec3 center(0.0f), size(1.0f);
+      bool inward = false;
+      if (!r_.vec3(at, "center", center) || !r_.vec3(at, "size", size) || !r_.boolean(at, "inward", inward)) return;
+      if (!(size.x > 0 && size.y > 0 && size.z > 0)) return r_.error(r_.child(at, "size"), "sizes must be > 0");
+      mesh = makeBox(center, size, inward);
+    } else {
+      return r_.error(r_.child(at, "type"), type.empty() ? "missing \"type\" (sphere, quad or box)"
+                                                         : "unknown shape type \"" + type + "\" (sphere, quad or box)");
+    }
+    std::string name = "shape_" + at.pointer.substr(at.pointer.find_last_of('/') + 1);  // shape_<index>
+    std::string material;
+    Mat4 transform(1.0f);
+    if (!r_.string(at, "name", name) || !r_.string(at, "material", material)) return;
+    if (const JsonAt t = r_.child(at, "transform"); t && !r_.transform(t, transform)) return;
+    if (!material.empty()) {
+      mesh.material = materialNamed(material);
+      if (mesh.material < 0) {  // a name for bindings to match; renders as grey diffuse unbound
+        GltfMaterial m;
+        m.name = material;
+        m.baseColorFactor = Vec4(0.8f, 0.8f, 0.8f, 1.0f);
+        m.metallicFactor = 0;
+        mesh.material = int(scene_.materials.size());
+        scene_.materials.push_back(m);
+      }
+    }
+    mesh.meshName = name;
+    scene_.instances.push_back(MeshInstance{int(scene_.primitives.size()), transform, name});
+    scene_.primitives.push_back(std::move(mesh));
+  }
+
+  void binding(const JsonAt& at) {
+    if (!r_.checkKeys(at, {"match", "file", "entry", "params"})) return;
+    TexMaterialBinding b;
+    b.origin = r_.where(at);
+    const JsonAt match = r_.child(at, "match");
+    if (!match) return r_.error(at, "missing \"match\" ({\"material\": name} or {\"mesh\": name})");
+    if (!r_.checkKeys(match, {"material", "mesh"})) return;
+    if (match.j->size() != 1) return r_.error(match, "give exactly one of \"material\" and \"mesh\"");
+    if (!r_.string(match, "material", b.matchMaterial) || !r_.string(match, "mesh", b.matchMesh)) return;
+    std::string file;
+    if (!r_.child(at, "file")) return r_.error(at, "missing \"file\" (a .tex module)");
+    if (!r_.child(at, "entry")) return r_.error(at, "missing \"entry\" (the exported material function)");
+    if (!r_.string(at, "file", file) || !r_.string(at, "entry", b.entry)) return;
+    if (!r_.existingFile(r_.child(at, "file"), file, b.file)) return;
+    if (const JsonAt params = r_.child(at, "params")) {
+      if (!r_.isObject(params)) return;
+      for (auto it = params.j->begin(); it != params.j->end(); ++it) {
+        TexParamValue value;
+        if (!r_.texParam(r_.child(params, it.key()), value)) return;
+        b.params[it.key()] = std::move(value);
+      }
+    }
+    bindingAt_.push_back(at);
+    scene_.texMaterials.push_back(std::move(b));
+  }
+
+  void checkBindingsMatch() {
+    for (size_t i = 0; i < scene_.texMaterials.size(); ++i) {
+      const TexMaterialBinding& b = scene_.texMaterials[i];
+      bool found = false;
+      if (!b.matchMaterial.empty()) found = materialNamed(b.matchMaterial) >= 0;
+      else
+        for (const MeshPrimitive& p : scene_.primitives) found = found || p.meshName == b.matchMesh;
+      if (!found)
+        r_.warn(scene_, r_.child(bindingAt_[i], "match"),
+                "matches nothing (no " + std::string(b.matchMaterial.empty() ? "mesh" : "material") + " named \"" +
+                    (b.matchMaterial.empty() ? b.matchMesh : b.matchMaterial) + "\")");
+    }
+  }
+
+  void camera(const JsonAt& at, std::vector<CameraDesc>& out) {
+    if (!r_.checkKeys(at, {"type", "name", "from", "to", "up", "fov_deg", "aspect", "lens_radius", "focus_distance"}))
+      return;
+    std::string type = "perspective";
+    CameraDesc c;
+    Vec3 from(0, 0, 0), to(0, 0, -1), up(0, 1, 0);
+    float fovDeg = 40;
+    if (!r_.string(at, "type", type) || !r_.string(at, "name", c.name) || !r_.vec3(at, "from", from) ||
+        !r_.vec3(at, "to", to) || !r_.vec3(at, "up", up) || !r_.number(at, "fov_deg", fovDeg, 1e-3f, 179.0f) ||
+        !r_.number(at, "aspect", c.aspect, 0))
+      return;
+    if (type != "perspective" && type != "thinlens")
+      return r_.error(r_.child(at, "type"), "unknown camera type \"" + type + "\" (perspective or thinlens)");
+    if (type == "perspective" && (r_.child(at, "lens_radius") || r_.child(at, "focus_distance")))
+      return r_.error(at, "lens_radius and focus_distance need \"type\": \"thinlens\"");
+    // Camera looks down its local -z (glTF convention).
+    const Vec3 back = from - to;
+    if (!(glm::length(back) > 0)) return r_.error(r_.child(at, "to"), "\"from\" and \"to\" are the same point");
+    const Vec3 z = glm::normalize(back);
+    const Vec3 xUnnormalised = glm::cross(up, z);
+    if (!(glm::length(xUnnormalised) > 1e-6f * glm::length(up))) return r_.error(r_.child(at, "up"), "\"up\" is parallel to the view direction");
+    const Vec3 x = glm::normalize(xUnnormalised), y = glm::cross(z, x);
+    c.cameraToWorld = Mat4(Vec4(x, 0), Vec4(y, 0), Vec4(z, 0), Vec4(from, 1));
+    c.yFovRadians = fovDeg * kDegrees;
+    c.focusDistance = glm::length(back);
+    if (type == "thinlens" &&
+        (!r_.number(at, "lens_radius", c.lensRadius, 0) || !r_.number(at, "focus_distance", c.focusDistance, 1e-30f)))
+      return;
+    out.push_back(c);
+  }
+
+  void light(const JsonAt& at) {
+    if (!r_.isObject(at)) return;
+    std::string type;
+    if (!r_.string(at, "type", type)) return;
+    LightDesc l;
+    l.emission.kind = SpectrumDesc::Kind::Constant;
+    l.emission.value = 1;
+    if (type == "point") {
+      l.kind = LightDesc::Kind::Point;
+      if (!r_.checkKeys(at, {"type", "name", "emission", "intensity", "position"}) || !r_.vec3(at, "position", l.position)) return;
+    } else if (type == "spot") {
+      l.kind = LightDesc::Kind::Spot;
+      if (!r_.checkKeys(at, {"type", "name", "emission", "intensity", "position", "direction", "to", "inner_cone_deg",
+                             "outer_cone_deg"}))
+        return;
+      float innerDeg = 0, outerDeg = 45;
+      if (!r_.vec3(at, "position", l.position) || !direction(at, l) || !r_.number(at, "inner_cone_deg", innerDeg, 0, 90) ||
+          !r_.number(at, "outer_cone_deg", outerDeg, 1e-3f, 90))
+        return;
+      if (!(innerDeg < outerDeg)) return r_.error(r_.child(at, "inner_cone_deg"), "must be less than outer_cone_deg");
+      l.innerConeRadians = innerDeg * kDegrees;
+      l.outerConeRadians = outerDeg * kDegrees;
+    } else if (type == "directional") {
+      l.kind = LightDesc::Kind::Directional;
+      if (!r_.checkKeys(at, {"type", "name", "emission", "intensity", "direction"}) || !direction(at, l)) return;
+    } else if (type == "environment") {
+      if (!r_.checkKeys(at, {"type", "name", "emission", "intensity", "image", "transform"})) return;
+      l.kind = LightDesc::Kind::ConstantEnvironment;
+      if (const JsonAt image = r_.child(at, "image")) {
+        std::string file;
+        if (!r_.string(at, "image", file) || !r_.existingFile(image, file, l.imagePath)) return;
+        l.kind = LightDesc::Kind::ImageEnvironment;
+      }
+      if (const JsonAt t = r_.child(at, "transform"); t && !r_.transform(t, l.environmentToWorld)) return;
+    } else {
+      return r_.error(r_.child(at, "type"), type.empty() ? "missing \"type\" (point, spot, directional or environment)"
+                                                         : "unknown light type \"" + type + "\" (point, spot, directional or environment)");
+    }
+    if (!r_.string(at, "name", l.name) || !r_.number(at, "intensity", l.intensity, 0)) return;
+    if (const JsonAt e = r_.child(at, "emission"); e && !r_.spectrum(e, l.emission)) return;
+    scene_.lights.push_back(l);
+  }
+
+  // "direction" (the way light travels) or "to" (a point it shines at, spot lights).
+  bool direction(const JsonAt& at, LightDesc& l) {
+    const JsonAt d = r_.child(at, "direction"), to = r_.child(at, "to");
+    if (d && to) return r_.error(to, "give \"direction\" or \"to\", not both"), false;
+    if (!d && !to) return r_.error(at, "missing \"direction\""), false;
+    Vec3 v;
+    if (d ? !r_.vec3(at, "direction", v) : !r_.vec3(at, "to", v)) return false;
+    if (to) v -= l.position;
+    if (!(glm::length(v) > 0)) return r_.error(d ? d : to, "the direction is zero"), false;
+    l.direction = glm::normalize(v);
+    return true;
+  }
+
+  void settings(const JsonAt& at) {
+    if (!r_.checkKeys(at, {"resolution", "spp", "max_depth", "wavelengths", "seed", "integrator", "camera"})) return;
+    RenderSettings& s = scene_.settings;
+    scene_.settingsGiven = true;
+    if (const JsonAt res = r_.child(at, "resolution")) {
+      if (!res.j->is_array() || res.j->size() != 2 || !(*res.j)[0].is_number_integer() || !(*res.j)[1].is_number_integer())
+        return r_.error(res, "expected [width, height] as integers");
+      const int64_t w = (*res.j)[0].get<int64_t>(), h = (*res.j)[1].get<int64_t>();
+      if (w < 1 || h < 1 || w > 65536 || h > 65536) return r_.error(res, "width and height must be in [1, 65536]");
+      s.width = int(w);
+      s.height = int(h);
+    }
+    if (!r_.integer(at, "spp", s.spp, 1, 1 << 30) || !r_.integer(at, "max_depth", s.maxDepth, 0, 1 << 16) ||
+        !r_.integer(at, "wavelengths", s.wavelengths, 1, 8) || !r_.unsigned64(at, "seed", s.seed) ||
+        !r_.string(at, "integrator", s.integrator) || !r_.integer(at, "camera", s.camera, 0, 1 << 20))
+      return;
+    if (s.wavelengths != 4 && s.wavelengths != 8) return r_.error(r_.child(at, "wavelengths"), "must be 4 or 8");
+    if (s.integrator.empty()) return r_.error(r_.child(at, "integrator"), "must not be empty");
+    if (r_.child(at, "camera") && size_t(s.camera) >= scene_.cameras.size())
+      return r_.error(r_.child(at, "camera"), "camera " + std::to_string(s.camera) + " does not exist (the scene has " +
+                                                   std::to_string(scene_.cameras.size()) + ")");
+  }
+
+  SceneJsonReader& r_;
+  SceneDescription& scene_;
+  std::vector<JsonAt> bindingAt_;
+};
+
+}  // namespace
+
+std::optional<SceneDescription> parseSceneJson(const std::string& text, const std::string& displayName,
+                                               const std::string& baseDirectory, std::vector<std::string>& errors) {
+  std::string syntaxError;
+  std::optional<LocatedJson> doc = parseLocatedJson(text, syntaxError);
+  if (!doc) {
+    errors.push_back(displayName + ":" + syntaxError);
+    return std::nullopt;
+  }
+  SceneDescription scene;
+  scene.sourcePath = displayName;
+  const size_t before = errors.size();
+  SceneJsonReader reader(*doc, displayName, baseDirectory, errors);
+  SceneJsonLoader(reader, scene).load();
+  if (errors.size() != before) return std::nullopt;
+  return scene;
+}
+
+std::optional<SceneDescription> loadSceneJson(const std::string& path, std::vector<std::string>& errors) {
+  std::ifstream file(path, std::ios::binary);
+  if (!file) {
+    errors.push_back(path + ": cannot open the file");
+    return std::nullopt;
+  }
+  std::stringstream text;
+  text << file.rdbuf();
+  const std::string directory = std::filesystem::path(path).parent_path().string();
+  return parseSceneJson(text.str(), path, directory.empty() ? "." : directory, errors);
+}
+
+}  // namespace tex::render
