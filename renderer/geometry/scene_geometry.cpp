@@ -1,0 +1,277 @@
+#include "renderer/geometry/scene_geometry.h"
+
+#include <embree3/rtcore.h>
+
+#include <cmath>
+#include <cstring>
+#include <mutex>
+
+namespace tex::render {
+
+namespace {
+
+void embreeError(void* userPtr, RTCError code, const char* message) {
+  auto* sink = static_cast<std::string*>(userPtr);
+  if (sink->empty()) *sink = "Embree error " + std::to_string(int(code)) + ": " + (message ? message : "");
+}
+
+Vec3 transformPoint(const Mat4& m, const Vec3& p) { return Vec3(m * Vec4(p, 1.0f)); }
+
+}  // namespace
+
+struct SceneGeometry::Impl {
+  struct Instance {
+    int primitive = 0;
+    Mat4 toWorld{1.0f};
+    glm::mat3 normalToWorld{1.0f};
+    bool flipWinding = false;
+    std::vector<Vec3> worldPositions;  // baked instances only
+    bool valid = false;                // false: skipped (no triangles, degenerate transform)
+  };
+  const SceneDescription* scene = nullptr;
+  std::string error;
+  RTCDevice device = nullptr;
+  RTCScene top = nullptr;
+  std::vector<RTCScene> childScenes;  // per primitive (instanced ones only)
+  std::vector<Instance> instances;
+  std::vector<int> instanceOfTopGeometry;  // Embree top-level geomID -> instance
+
+  ~Impl() {
+    for (RTCScene s : childScenes)
+      if (s) rtcReleaseScene(s);
+    if (top) rtcReleaseScene(top);
+    if (device) rtcReleaseDevice(device);
+  }
+
+  // A triangle geometry over the given vertices (Embree copies them into its own buffers,
+  // which it pads for 16-byte reads).
+  RTCGeometry makeTriangles(const std::vector<Vec3>& positions, const std::vector<uint32_t>& indices) {
+    RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* v = static_cast<float*>(
+        rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), positions.size()));
+    auto* idx = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                               3 * sizeof(uint32_t), indices.size() / 3));
+    if (!v || !idx) {
+      rtcReleaseGeometry(g);
+      return nullptr;
+    }
+    std::memcpy(v, positions.data(), positions.size() * sizeof(Vec3));
+    std::memcpy(idx, indices.data(), indices.size() * sizeof(uint32_t));
+    rtcCommitGeometry(g);
+    return g;
+  }
+
+  const Vec3* positionsOf(const Instance& inst) const {
+    return inst.worldPositions.empty() ? nullptr : inst.worldPositions.data();
+  }
+  void worldVertices(const Instance& inst, uint32_t triangle, Vec3 p[3], uint32_t vi[3]) const {
+    const MeshPrimitive& prim = scene->primitives[size_t(inst.primitive)];
+    for (int k = 0; k < 3; ++k) {
+      vi[k] = prim.indices[size_t(triangle) * 3 + size_t(k)];
+      p[k] = inst.worldPositions.empty() ? transformPoint(inst.toWorld, prim.positions[vi[k]]) : inst.worldPositions[vi[k]];
+    }
+  }
+};
+
+SceneGeometry::~SceneGeometry() = default;
+
+std::unique_ptr<SceneGeometry> SceneGeometry::build(const SceneDescription& scene, std::string& error) {
+  std::unique_ptr<SceneGeometry> geometry(new SceneGeometry());
+  geometry->impl_ = std::make_unique<Impl>();
+  Impl& im = *geometry->impl_;
+  im.scene = &scene;
+  im.device = rtcNewDevice(nullptr);
+  if (!im.device) {
+    error = "cannot create the Embree device";
+    return nullptr;
+  }
+  rtcSetDeviceErrorFunction(im.device, embreeError, &im.error);
+  im.top = rtcNewScene(im.device);
+  rtcSetSceneFlags(im.top, RTC_SCENE_FLAG_ROBUST);
+  rtcSetSceneBuildQuality(im.top, RTC_BUILD_QUALITY_HIGH);
+
+  std::vector<int> usesOfPrimitive(scene.primitives.size(), 0);
+  for (const MeshInstance& inst : scene.instances)
+    if (inst.primitive >= 0 && size_t(inst.primitive) < scene.primitives.size()) ++usesOfPrimitive[size_t(inst.primitive)];
+  im.childScenes.assign(scene.primitives.size(), nullptr);
+  im.instances.resize(scene.instances.size());
+
+  for (size_t i = 0; i < scene.instances.size(); ++i) {
+    const MeshInstance& desc = scene.instances[i];
+    if (desc.primitive < 0 || size_t(desc.primitive) >= scene.primitives.size()) {
+      error = "instance " + std::to_string(i) + " refers to a missing primitive";
+      return nullptr;
+    }
+    const MeshPrimitive& prim = scene.primitives[size_t(desc.primitive)];
+    if (prim.indices.empty()) continue;
+    Impl::Instance inst;
+    inst.primitive = desc.primitive;
+    inst.toWorld = desc.objectToWorld;
+    const glm::mat3 linear(desc.objectToWorld);
+    const float det = glm::determinant(linear);
+    if (!std::isfinite(det) || det == 0.0f) {
+      // A degenerate transform flattens the mesh: nothing to hit.
+      continue;
+    }
+    inst.normalToWorld = glm::transpose(glm::inverse(linear));
+    inst.flipWinding = det < 0.0f;
+    inst.valid = true;
+    const int instanceIndex = int(i);
+    unsigned geomId = RTC_INVALID_GEOMETRY_ID;
+    if (usesOfPrimitive[size_t(desc.primitive)] == 1) {
+      inst.worldPositions.resize(prim.positions.size());
+      for (size_t v = 0; v < prim.positions.size(); ++v) {
+        inst.worldPositions[v] = transformPoint(desc.objectToWorld, prim.positions[v]);
+        geometry->bounds_.extend(inst.worldPositions[v]);
+      }
+      RTCGeometry g = im.makeTriangles(inst.worldPositions, prim.indices);
+      if (!g) break;
+      geomId = rtcAttachGeometry(im.top, g);
+      rtcReleaseGeometry(g);
+    } else {
+      RTCScene& child = im.childScenes[size_t(desc.primitive)];
+      if (!child) {
+        child = rtcNewScene(im.device);
+        rtcSetSceneFlags(child, RTC_SCENE_FLAG_ROBUST);
+        rtcSetSceneBuildQuality(child, RTC_BUILD_QUALITY_HIGH);
+        RTCGeometry g = im.makeTriangles(prim.positions, prim.indices);
+        if (!g) break;
+        rtcAttachGeometry(child, g);
+        rtcReleaseGeometry(g);
+        rtcCommitScene(child);
+      }
+      RTCGeometry g = rtcNewGeometry(im.device, RTC_GEOMETRY_TYPE_INSTANCE);
+      rtcSetGeometryInstancedScene(g, child);
+      rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, &desc.objectToWorld[0][0]);
+      rtcCommitGeometry(g);
+      geomId = rtcAttachGeometry(im.top, g);
+      rtcReleaseGeometry(g);
+      for (const Vec3& p : prim.positions) geometry->bounds_.extend(transformPoint(desc.objectToWorld, p));
+    }
+    if (geomId == RTC_INVALID_GEOMETRY_ID) break;
+    if (im.instanceOfTopGeometry.size() <= geomId) im.instanceOfTopGeometry.resize(geomId + 1, -1);
+    im.instanceOfTopGeometry[geomId] = instanceIndex;
+    geometry->triangleCount_ += prim.indices.size() / 3;
+    im.instances[i] = std::move(inst);
+  }
+  if (!im.error.empty()) {
+    error = im.error;
+    return nullptr;
+  }
+  rtcCommitScene(im.top);
+  if (!im.error.empty()) {
+    error = im.error;
+    return nullptr;
+  }
+  if (geometry->triangleCount_ == 0) {
+    error = "the scene has no triangles";
+    return nullptr;
+  }
+  return geometry;
+}
+
+bool SceneGeometry::intersect(const Ray& ray, SurfaceHit& hit) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRayHit rh;
+  rh.ray.org_x = ray.origin.x;
+  rh.ray.org_y = ray.origin.y;
+  rh.ray.org_z = ray.origin.z;
+  rh.ray.dir_x = ray.direction.x;
+  rh.ray.dir_y = ray.direction.y;
+  rh.ray.dir_z = ray.direction.z;
+  rh.ray.tnear = 0.0f;
+  rh.ray.tfar = ray.tMax;
+  rh.ray.time = 0.0f;
+  rh.ray.mask = 0xFFFFFFFFu;
+  rh.ray.id = 0;
+  rh.ray.flags = 0;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(impl_->top, &context, &rh);
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+  const unsigned topId = rh.hit.instID[0] != RTC_INVALID_GEOMETRY_ID ? rh.hit.instID[0] : rh.hit.geomID;
+  const int instance = impl_->instanceOfTopGeometry[topId];
+  fillHit(instance, rh.hit.primID, rh.hit.u, rh.hit.v, hit);
+  hit.t = rh.ray.tfar;
+  return true;
+}
+
+bool SceneGeometry::occluded(const Ray& ray) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRay r;
+  r.org_x = ray.origin.x;
+  r.org_y = ray.origin.y;
+  r.org_z = ray.origin.z;
+  r.dir_x = ray.direction.x;
+  r.dir_y = ray.direction.y;
+  r.dir_z = ray.direction.z;
+  r.tnear = 0.0f;
+  r.tfar = ray.tMax;
+  r.time = 0.0f;
+  r.mask = 0xFFFFFFFFu;
+  r.id = 0;
+  r.flags = 0;
+  rtcOccluded1(impl_->top, &context, &r);
+  return r.tfar < 0.0f;  // Embree sets tfar to -inf on a hit
+}
+
+bool SceneGeometry::hasInstance(int instance) const {
+  return instance >= 0 && size_t(instance) < impl_->instances.size() && impl_->instances[size_t(instance)].valid;
+}
+
+void SceneGeometry::triangleWorld(int instance, uint32_t triangle, Vec3 p[3], Vec2 uv[3], Vec3& ng) const {
+  const Impl::Instance& inst = impl_->instances[size_t(instance)];
+  uint32_t vi[3];
+  impl_->worldVertices(inst, triangle, p, vi);
+  const MeshPrimitive& prim = impl_->scene->primitives[size_t(inst.primitive)];
+  for (int k = 0; k < 3; ++k) uv[k] = prim.uv0.empty() ? Vec2(0.0f) : prim.uv0[vi[k]];
+  Vec3 n = glm::cross(p[1] - p[0], p[2] - p[0]);
+  const float len = glm::length(n);
+  ng = len > 0.0f ? n / len : Vec3(0.0f, 0.0f, 1.0f);
+  if (inst.flipWinding) ng = -ng;
+}
+
+void SceneGeometry::fillHit(int instance, uint32_t triangle, float b1, float b2, SurfaceHit& hit) const {
+  const Impl::Instance& inst = impl_->instances[size_t(instance)];
+  const MeshPrimitive& prim = impl_->scene->primitives[size_t(inst.primitive)];
+  Vec3 p[3];
+  uint32_t vi[3];
+  impl_->worldVertices(inst, triangle, p, vi);
+  const float b0 = 1.0f - b1 - b2;
+  hit.instance = instance;
+  hit.primitive = inst.primitive;
+  hit.triangle = triangle;
+  hit.material = prim.material;
+  hit.p = p[0] * b0 + p[1] * b1 + p[2] * b2;
+  const Vec3 e1 = p[1] - p[0], e2 = p[2] - p[0];
+  Vec3 n = glm::cross(e1, e2);
+  const float len = glm::length(n);
+  hit.triangleAreaWorld = 0.5f * len;
+  hit.ng = len > 0.0f ? n / len : Vec3(0.0f, 0.0f, 1.0f);
+  if (inst.flipWinding) hit.ng = -hit.ng;
+  hit.ns = hit.ng;
+  if (!prim.normals.empty()) {
+    const Vec3 nObject = prim.normals[vi[0]] * b0 + prim.normals[vi[1]] * b1 + prim.normals[vi[2]] * b2;
+    const Vec3 nWorld = inst.normalToWorld * nObject;
+    const float nl = glm::length(nWorld);
+    if (nl > 0.0f && std::isfinite(nl)) hit.ns = nWorld / nl;
+  }
+  hit.uv = Vec2(0.0f);
+  hit.dpdu = hit.dpdv = Vec3(0.0f);
+  if (!prim.uv0.empty()) {
+    const Vec2 t0 = prim.uv0[vi[0]], t1 = prim.uv0[vi[1]], t2 = prim.uv0[vi[2]];
+    hit.uv = t0 * b0 + t1 * b1 + t2 * b2;
+    // Solve [e1 e2] = [dpdu dpdv] [duv1 duv2] for the uv parametrisation's derivatives.
+    const Vec2 d1 = t1 - t0, d2 = t2 - t0;
+    const float det = d1.x * d2.y - d1.y * d2.x;
+    if (std::fabs(det) > 1e-12f) {
+      const float inv = 1.0f / det;
+      hit.dpdu = (e1 * d2.y - e2 * d1.y) * inv;
+      hit.dpdv = (e2 * d1.x - e1 * d2.x) * inv;
+    }
+  }
+}
+
+}  // namespace tex::render

@@ -1,0 +1,67 @@
+// The scene's triangles in Embree 3: ray queries and the hit geometry the renderer shades.
+// A primitive used by one node is baked into world space in the top-level BVH; a primitive
+// shared by several nodes is built once and instanced (Embree instances), so files such as
+// MetalRoughSpheresNoTextures (1 M instanced triangles from 12 k distinct) stay small.
+// Single rays for now; the interface leaves room for packets.
+#pragma once
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "renderer/core/geometry.h"
+#include "renderer/scene/load_scene.h"
+#include "renderer/scene/scene_description.h"
+
+namespace tex::render {
+
+inline Vec3 boundsCenter(const Bounds3& b) { return (b.lower + b.upper) * 0.5f; }
+inline float boundsRadius(const Bounds3& b) { return b.empty() ? 0.0f : glm::length(b.upper - b.lower) * 0.5f; }
+
+// What a ray hit, in world space.
+struct SurfaceHit {
+  float t = 0;
+  Vec3 p{0.0f};        // position (recomputed from barycentrics, not origin + t d)
+  Vec3 ng{0.0f};       // unit geometric normal: the triangle's front side (counter-clockwise winding)
+  Vec3 ns{0.0f};       // unit shading normal (interpolated vertex normals, or ng)
+  Vec2 uv{0.0f};       // TEXCOORD_0 (0 when absent)
+  Vec3 dpdu{0.0f}, dpdv{0.0f};  // position derivatives w.r.t. uv (0 when uv is degenerate)
+  int instance = -1;   // SceneDescription::instances index
+  int primitive = -1;  // SceneDescription::primitives index
+  uint32_t triangle = 0;  // triangle within the primitive
+  int material = -1;   // the primitive's material (-1: default)
+  float triangleAreaWorld = 0;
+};
+
+class SceneGeometry {
+ public:
+  // Builds the BVHs; returns null with `error` set if Embree fails or the scene is empty.
+  static std::unique_ptr<SceneGeometry> build(const SceneDescription& scene, std::string& error);
+  ~SceneGeometry();
+  SceneGeometry(const SceneGeometry&) = delete;
+  SceneGeometry& operator=(const SceneGeometry&) = delete;
+
+  // Closest hit along the ray within (0, ray.tMax).
+  bool intersect(const Ray& ray, SurfaceHit& hit) const;
+  // Any hit within (0, ray.tMax).
+  bool occluded(const Ray& ray) const;
+
+  const Bounds3& bounds() const { return bounds_; }
+  uint64_t triangleCount() const { return triangleCount_; }  // instanced, world
+  // Instances are numbered as in SceneDescription::instances; skipped ones (no triangles, a
+  // degenerate transform) are not in the BVH.
+  bool hasInstance(int instance) const;
+  // World-space vertices of one triangle of an instance (for area lights).
+  void triangleWorld(int instance, uint32_t triangle, Vec3 p[3], Vec2 uv[3], Vec3& ng) const;
+  // Fills `hit` for an instance, triangle and barycentrics (b1, b2) (also used by lights).
+  void fillHit(int instance, uint32_t triangle, float b1, float b2, SurfaceHit& hit) const;
+
+  struct Impl;
+
+ private:
+  SceneGeometry() = default;
+  std::unique_ptr<Impl> impl_;
+  Bounds3 bounds_;
+  uint64_t triangleCount_ = 0;
+};
+
+}  // namespace tex::render

@@ -1,0 +1,179 @@
+#include "renderer/integrators/path_tracer.h"
+
+#include <cmath>
+
+#include "renderer/core/warp.h"
+
+namespace tex::render {
+
+namespace {
+
+// Keeps only the hero wavelength's estimate (scaled by the group size so that the group's
+// average stays unbiased): after a dispersive event only lane 0's direction is right.
+void terminateSecondaryWavelengths(Spectrum& beta, int count) {
+  beta.v[0] *= float(count);
+  for (int i = 1; i < kLanes; ++i) beta.v[i] = 0.0f;
+}
+
+Ray spawnRay(const Vec3& p, const Vec3& ng, const Vec3& direction) {
+  Ray r;
+  r.origin = offsetRayOrigin(p, ng, direction);
+  r.direction = direction;
+  r.tMax = kInfinity;
+  return r;
+}
+
+// A shadow ray from a surface point to a point on a light (offset off the light as well), or to
+// infinity for lights at infinity.
+Ray shadowRay(const Vec3& p, const Vec3& ng, const LightLiSample& ls) {
+  Ray r;
+  r.origin = offsetRayOrigin(p, ng, ls.wi);
+  r.direction = ls.wi;
+  if (!std::isfinite(ls.distance)) {
+    r.tMax = kInfinity;
+    return r;
+  }
+  Vec3 target = ls.pLight;
+  if (ls.nLight != Vec3(0.0f)) target = offsetRayOrigin(ls.pLight, ls.nLight, -ls.wi);
+  const Vec3 d = target - r.origin;
+  r.tMax = glm::length(d) * (1.0f - 1e-4f);
+  return r;
+}
+
+}  // namespace
+
+SampleRecord PathTracer::record(uint64_t index) const {
+  PathCounters& counters = counters_.local();
+  SampleRecord rec;
+  const sampling::FilmPosition film = sampler_.filmPosition(index);
+  rec.filmX = film.x;
+  rec.filmY = film.y;
+  rec.weight = 1.0f;
+  rec.technique = kTechniqueCamera;
+  Wavelengths lambda =
+      color::sampleWavelengthGroup(sampler_.get(index, sampling::kWavelengthDimension), settings_.wavelengths);
+  rec.wavelengthCount = uint8_t(lambda.count);
+  const Vec2 uLens(sampler_.get(index, kLensDimension), sampler_.get(index, kLensDimension + 1));
+  const CameraRay cr = scene_.camera().generateRay(film, uLens);
+  Spectrum L;
+  if (cr.weight > 0.0f) L = radiance(index, cr.ray, lambda, counters) * cr.weight;
+  ++counters.paths;
+  bool finite = true;
+  for (int j = 0; j < lambda.count; ++j) {
+    rec.lambdaNm[j] = lambda.lambdaNm[j];
+    const float v = lambda.pdfLambda[j] > 0.0f ? L.v[j] / lambda.pdfLambda[j] : 0.0f;
+    finite = finite && std::isfinite(v);
+    rec.values[j] = v;
+  }
+  if (!finite) {
+    ++counters.nonFiniteSamples;
+    for (int j = 0; j < lambda.count; ++j) rec.values[j] = 0.0f;
+  }
+  return rec;
+}
+
+Spectrum PathTracer::radiance(uint64_t index, const Ray& primary, Wavelengths& lambda, PathCounters& counters) const {
+  const SceneGeometry& geometry = scene_.geometry();
+  const MaterialSystem& materials = scene_.materials();
+  const LightSampler& lightSampler = scene_.lightSampler();
+  const auto& lights = scene_.lights();
+  const int n = lambda.count;
+
+  Spectrum L;
+  Spectrum beta;
+  for (int i = 0; i < n; ++i) beta.v[i] = 1.0f;
+  Ray ray = primary;
+  bool specularBounce = true;  // the camera vertex counts as specular: emission seen directly
+  float prevPdfW = 0.0f;
+  Vec3 prevP = primary.origin;
+  bool terminated = false;
+
+  for (int depth = 0;; ++depth) {
+    SurfaceHit hit;
+    ++counters.rays;
+    if (!geometry.intersect(ray, hit)) {
+      for (int li : scene_.environmentLights()) {
+        const Spectrum Le = lights[size_t(li)]->Le(ray, lambda);
+        if (Le.isBlack()) continue;
+        if (specularBounce) {
+          L += beta * Le;
+        } else {
+          const float pdfLight = lightSampler.pmf(li) * lights[size_t(li)]->pdfLi(prevP, ray.direction, nullptr);
+          L += beta * Le * powerHeuristic(prevPdfW, pdfLight);
+        }
+      }
+      break;
+    }
+    const ShadingPoint sp = RenderScene::shadingPoint(hit);
+    const Vec3 wo = -ray.direction;
+    Bsdf bsdf(Frame::fromNormalTangent(hit.ns, hit.dpdu), hit.ng);
+    Spectrum Le;
+    if (!materials.shade(hit.material, sp, lambda, bsdf, Le)) ++counters.materialFailures;
+
+    // Emission seen by this path: MIS against the light sampling of the previous vertex.
+    if (!Le.isBlack() && (dot3(wo, hit.ng) > 0.0f || materials.emitsBothSides(hit.material))) {
+      if (specularBounce) {
+        L += beta * Le;
+      } else {
+        const int li = scene_.areaLightAt(hit);
+        float pdfLight = 0.0f;
+        if (li >= 0) {
+          EmitterPoint ep{hit.p, hit.ng, hit.uv, hit.primitive};
+          pdfLight = lightSampler.pmf(li) * lights[size_t(li)]->pdfLi(prevP, ray.direction, &ep);
+        }
+        L += beta * Le * powerHeuristic(prevPdfW, pdfLight);
+      }
+    }
+    if (depth >= settings_.maxDepth || bsdf.empty()) break;
+
+    const int dim = kFirstBounceDimension + depth * kDimensionsPerBounce;
+    // Next-event estimation: one light chosen by power.
+    if (bsdf.hasNonSpecular() && lightSampler.size() > 0) {
+      const auto choice = lightSampler.sample(sampler_.get(index, dim));
+      if (choice) {
+        const Light& light = *lights[size_t(choice->first)];
+        const Vec2 u(sampler_.get(index, dim + 1), sampler_.get(index, dim + 2));
+        const std::optional<LightLiSample> ls = light.sampleLi(hit.p, u, lambda);
+        if (ls && ls->pdfW > 0.0f && !ls->L.isBlack()) {
+          const Spectrum f = bsdf.eval(wo, ls->wi, TransportMode::Radiance) * absDot(ls->wi, hit.ns);
+          if (!f.isBlack()) {
+            ++counters.rays;
+            if (!geometry.occluded(shadowRay(hit.p, hit.ng, *ls))) {
+              const float pdfLight = choice->second * ls->pdfW;
+              const float weight =
+                  ls->delta ? 1.0f : powerHeuristic(pdfLight, bsdf.pdf(wo, ls->wi, TransportMode::Radiance));
+              L += beta * f * ls->L * (weight / pdfLight);
+            }
+          }
+        }
+      }
+    }
+
+    // Continue the path by sampling the BSDF.
+    const Vec2 u(sampler_.get(index, dim + 4), sampler_.get(index, dim + 5));
+    const std::optional<BsdfSample> bs = bsdf.sample(wo, sampler_.get(index, dim + 3), u, TransportMode::Radiance);
+    if (!bs || !(bs->pdfW > 0.0f) || bs->f.isBlack()) break;
+    beta *= bs->f * (absDot(bs->wi, hit.ns) / bs->pdfW);
+    if (bs->dispersive && !terminated && n > 1) {
+      terminateSecondaryWavelengths(beta, n);
+      terminated = true;
+    }
+    specularBounce = bs->specular;
+    prevPdfW = bs->pdfW;
+    prevP = hit.p;
+    ray = spawnRay(hit.p, hit.ng, bs->wi);
+
+    if (beta.hasNaNOrInf()) {
+      ++counters.nonFiniteSamples;
+      break;
+    }
+    if (depth + 1 >= settings_.rouletteDepth) {
+      const float survive = std::min(1.0f, beta.maxValue());
+      if (sampler_.get(index, dim + 6) >= survive) break;
+      beta = beta / survive;
+    }
+  }
+  return L;
+}
+
+}  // namespace tex::render

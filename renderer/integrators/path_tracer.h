@@ -1,0 +1,50 @@
+// The spectral path tracer: a stream kernel from a sample index to one sample record.
+// Unidirectional paths from the camera with next-event estimation to one light per vertex
+// (chosen by power) and multiple importance sampling (power heuristic) between light and BSDF
+// sampling (Veach 1997, chapter 9); Russian roulette on the path throughput after
+// `rouletteDepth` bounces; `maxDepth` bounces at most. A path carries a group of wavelengths;
+// a dispersive scattering event samples its direction with the hero wavelength and terminates
+// the others (the baseline of design contract 4; spectral MIS comes with the materials issue).
+// Non-finite estimates are replaced by zero and counted.
+#pragma once
+#include <cstdint>
+
+#include "renderer/film/sample_record.h"
+#include "renderer/integrators/path_counters.h"
+#include "renderer/integrators/render_scene.h"
+#include "renderer/sampling/sampler.h"
+#include "runtime/stream.h"
+
+namespace tex::render {
+
+struct PathTracerSettings {
+  int maxDepth = 8;       // scattering events; 1 = direct lighting only
+  int rouletteDepth = 3;  // bounces before Russian roulette starts
+  int wavelengths = 4;    // 4 or 8
+};
+
+class PathTracer {
+ public:
+  PathTracer(const RenderScene& scene, const sampling::Sampler& sampler, const PathTracerSettings& settings)
+      : scene_(scene), sampler_(sampler), settings_(settings) {}
+
+  SampleRecord record(uint64_t index) const;
+  void operator()(uint64_t index, runtime::Emitter<SampleRecord>& out) const { out.emit(record(index)); }
+  PathCounters counters() const { return counters_.total(); }
+
+  // Sampler dimensions: after the shared ones (film 0-1, wavelengths 2) the lens takes 2, then
+  // every bounce takes kDimensionsPerBounce.
+  static constexpr int kLensDimension = sampling::kFirstKernelDimension;
+  static constexpr int kFirstBounceDimension = kLensDimension + 2;
+  static constexpr int kDimensionsPerBounce = 7;  // light choice, light 2D, lobe choice, BSDF 2D, roulette
+
+ private:
+  Spectrum radiance(uint64_t index, const Ray& primary, Wavelengths& lambda, PathCounters& counters) const;
+
+  const RenderScene& scene_;
+  sampling::Sampler sampler_;
+  PathTracerSettings settings_;
+  CounterRegistry counters_;
+};
+
+}  // namespace tex::render

@@ -1,0 +1,165 @@
+#include "renderer/integrators/render_scene.h"
+
+#include <chrono>
+#include <cmath>
+
+#include "renderer/lights/light_factory.h"
+#include "renderer/lights/triangle_light.h"
+
+namespace tex::render {
+
+// The emission of one material, as area lights see it.
+struct RenderScene::Emission final : EmissionSource {
+  const MaterialSystem* materials = nullptr;
+  int material = -1;
+  Spectrum radiance(const EmitterPoint& point, const Wavelengths& lambda) const override {
+    ShadingPoint sp;
+    sp.p = point.p;
+    sp.ng = sp.ns = point.n;
+    sp.uv = point.uv;
+    return materials->emission(material, sp, lambda);
+  }
+  float averageRadiance() const override { return materials->averageEmission(material); }
+};
+
+RenderScene::~RenderScene() = default;
+
+ShadingPoint RenderScene::shadingPoint(const SurfaceHit& hit) {
+  ShadingPoint sp;
+  sp.p = hit.p;
+  sp.ng = hit.ng;
+  sp.ns = hit.ns;
+  sp.uv = hit.uv;
+  sp.dpdu = hit.dpdu;
+  return sp;
+}
+
+CameraSettings chooseCamera(const SceneDescription& scene, const Bounds3& bounds, int index, float aspect) {
+  CameraSettings s;
+  s.aspect = aspect;
+  if (index >= 0 && size_t(index) < scene.cameras.size()) {
+    const CameraDesc& c = scene.cameras[size_t(index)];
+    s.cameraToWorld = c.cameraToWorld;
+    s.yFovRadians = c.yFovRadians;
+    s.lensRadius = c.lensRadius;
+    s.focusDistance = c.focusDistance;
+    return s;
+  }
+  // Frame the bounding sphere: look at its centre from +z and a little above, far enough that
+  // the sphere fits the narrower field of view.
+  const Vec3 centre = boundsCenter(bounds);
+  const float radius = std::max(boundsRadius(bounds), 1e-6f);
+  s.yFovRadians = 0.6f;
+  const float halfFov = 0.5f * std::min(s.yFovRadians, 2.0f * std::atan(std::tan(0.5f * s.yFovRadians) * aspect));
+  const float distance = radius / std::sin(halfFov) * 1.05f;
+  const Vec3 dir = glm::normalize(Vec3(0.0f, 0.35f, 1.0f));
+  const Vec3 eye = centre + dir * distance;
+  const Vec3 forward = glm::normalize(centre - eye);
+  const Vec3 right = glm::normalize(glm::cross(forward, Vec3(0, 1, 0)));
+  const Vec3 up = glm::cross(right, forward);
+  Mat4 m(1.0f);
+  m[0] = Vec4(right, 0.0f);
+  m[1] = Vec4(up, 0.0f);
+  m[2] = Vec4(-forward, 0.0f);
+  m[3] = Vec4(eye, 1.0f);
+  s.cameraToWorld = m;
+  s.focusDistance = distance;
+  return s;
+}
+
+std::unique_ptr<RenderScene> RenderScene::build(const SceneDescription& scene, const RenderSceneOptions& options,
+                                                std::string& error) {
+  const auto start = std::chrono::steady_clock::now();
+  std::unique_ptr<RenderScene> rs(new RenderScene());
+  rs->desc_ = &scene;
+  rs->geometry_ = SceneGeometry::build(scene, error);
+  if (!rs->geometry_) return nullptr;
+  MaterialOptions mo;
+  mo.wavelengths = options.wavelengths;
+  mo.quickCompile = options.quickCompile;
+  mo.useCache = options.useCache;
+  rs->materials_ = MaterialSystem::create(scene, mo, error);
+  if (!rs->materials_) return nullptr;
+
+  const float aspect = float(options.width) / float(std::max(options.height, 1));
+  rs->camera_ = std::make_unique<Camera>(chooseCamera(scene, rs->geometry_->bounds(), scene.settings.camera, aspect));
+
+  for (const LightDesc& ld : scene.lights) {
+    std::unique_ptr<Light> light = makeLight(ld, error);
+    if (!light) return nullptr;
+    rs->lights_.push_back(std::move(light));
+  }
+  // One triangle light per emissive triangle of every instance.
+  std::vector<RenderScene::Emission*> emissionOfMaterial(scene.materials.size() + 1, nullptr);
+  const auto emissionFor = [&](int material) -> const EmissionSource* {
+    const size_t slot = material >= 0 && size_t(material) < scene.materials.size() ? size_t(material) : scene.materials.size();
+    if (!emissionOfMaterial[slot]) {
+      auto e = std::make_unique<RenderScene::Emission>();
+      e->materials = rs->materials_.get();
+      e->material = material;
+      emissionOfMaterial[slot] = e.get();
+      rs->emissionSources_.push_back(std::move(e));
+    }
+    return emissionOfMaterial[slot];
+  };
+  const int instanceCount = int(scene.instances.size());
+  rs->areaLightBase_.assign(size_t(instanceCount), -1);
+  for (int i = 0; i < instanceCount; ++i) {
+    if (!rs->geometry_->hasInstance(i)) continue;
+    const MeshPrimitive* prim = &scene.primitives[size_t(scene.instances[size_t(i)].primitive)];
+    if (!rs->materials_->isEmissive(prim->material) || prim->indices.empty()) continue;
+    rs->areaLightBase_[size_t(i)] = int64_t(rs->lights_.size());
+    const EmissionSource* source = emissionFor(prim->material);
+    const uint32_t triangles = uint32_t(prim->indices.size() / 3);
+    for (uint32_t t = 0; t < triangles; ++t) {
+      TriangleLightDesc d;
+      Vec3 p[3];
+      Vec2 uv[3];
+      Vec3 ng;
+      rs->geometry_->triangleWorld(i, t, p, uv, ng);
+      d.p0 = p[0];
+      d.p1 = p[1];
+      d.p2 = p[2];
+      d.uv0 = uv[0];
+      d.uv1 = uv[1];
+      d.uv2 = uv[2];
+      d.normal = ng;
+      d.primitive = scene.instances[size_t(i)].primitive;
+      rs->lights_.push_back(makeTriangleLight(d, source));
+      ++rs->triangleLights_;
+    }
+  }
+  if (rs->lights_.empty()) {
+    // A file without lights (most glTF models) still gives a picture: a uniform white sky of
+    // radiance 1, as viewers do. Reported as a note so nobody mistakes it for the scene's light.
+    LightDesc sky;
+    sky.kind = LightDesc::Kind::ConstantEnvironment;
+    sky.name = "default sky";
+    sky.emission.kind = SpectrumDesc::Kind::Rgb;
+    sky.emission.rgb = Vec3(1.0f);
+    sky.intensity = 1.0f;
+    std::unique_ptr<Light> light = makeLight(sky, error);
+    if (!light) return nullptr;
+    rs->lights_.push_back(std::move(light));
+    rs->addedDefaultLight_ = true;
+  }
+  const Bounds3& b = rs->geometry_->bounds();
+  SceneSphere sphere{boundsCenter(b), std::max(boundsRadius(b), 1e-6f)};
+  for (size_t i = 0; i < rs->lights_.size(); ++i) {
+    rs->lights_[i]->preprocess(sphere);
+    rs->lightPointers_.push_back(rs->lights_[i].get());
+    if (rs->lights_[i]->kind() == LightKind::ConstantEnvironment || rs->lights_[i]->kind() == LightKind::ImageEnvironment)
+      rs->environmentLights_.push_back(int(i));
+  }
+  rs->lightSampler_ = std::make_unique<LightSampler>(std::span<const Light* const>(rs->lightPointers_));
+  rs->buildSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return rs;
+}
+
+int RenderScene::areaLightAt(const SurfaceHit& hit) const {
+  if (hit.instance < 0 || size_t(hit.instance) >= areaLightBase_.size()) return -1;
+  const int64_t base = areaLightBase_[size_t(hit.instance)];
+  return base < 0 ? -1 : int(base + int64_t(hit.triangle));
+}
+
+}  // namespace tex::render

@@ -1,0 +1,78 @@
+#include "renderer/material/gltf_material.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "renderer/material/texture_lookup.h"
+#include "renderer/spectra/rgb_spectrum.h"
+
+namespace tex::render {
+
+float dispersiveIor(float iorD, float dispersion, float lambdaNm) {
+  if (dispersion <= 0.0f) return iorD;
+  const float abbe = 20.0f / dispersion;
+  return std::max(iorD + (iorD - 1.0f) / abbe * (523655.0f / (lambdaNm * lambdaNm) - 1.5168f), 1.0f);
+}
+
+void gulbrandsenIor(float r, float g, float& eta, float& k) {
+  r = std::clamp(r, 0.0f, 0.99f);
+  g = std::clamp(g, 0.0f, 1.0f);
+  const float sr = std::sqrt(r);
+  eta = g * (1.0f - r) / (1.0f + r) + (1.0f - g) * (1.0f + sr) / (1.0f - sr);
+  const float k2 = (r * (eta + 1.0f) * (eta + 1.0f) - (eta - 1.0f) * (eta - 1.0f)) / (1.0f - r);
+  k = std::sqrt(std::max(k2, 0.0f));
+}
+
+namespace {
+
+Vec3 baseColorAt(const SceneDescription& scene, const GltfMaterial& m, const ShadingPoint& point) {
+  const Vec4 t = lookupTexture(scene, m.baseColorTexture, point.uv, point.uv, true);
+  return Vec3(m.baseColorFactor) * Vec3(t);
+}
+
+}  // namespace
+
+Spectrum gltfEmission(const SceneDescription& scene, const GltfMaterial& m, const ShadingPoint& point,
+                      const Wavelengths& lambda) {
+  Vec3 e = m.emissiveFactor * m.emissiveStrength;
+  if (e == Vec3(0.0f)) return Spectrum();
+  e *= Vec3(lookupTexture(scene, m.emissiveTexture, point.uv, point.uv, true));
+  return rgbIlluminantSpectrum(e, lambda);
+}
+
+void shadeGltfMaterial(const SceneDescription& scene, const GltfMaterial& m, const ShadingPoint& point,
+                       const Wavelengths& lambda, Bsdf& bsdf, Spectrum& emission) {
+  emission = gltfEmission(scene, m, point, lambda);
+  const Vec3 base = glm::clamp(baseColorAt(scene, m, point), Vec3(0.0f), Vec3(1.0f));
+  const Vec4 mr = lookupTexture(scene, m.metallicRoughnessTexture, point.uv, point.uv, false);
+  const float metal = std::clamp(m.metallicFactor * mr.z, 0.0f, 1.0f);
+  const float transmission =
+      std::clamp(m.transmissionFactor * lookupTexture(scene, m.transmissionTexture, point.uv, point.uv, false).x, 0.0f, 1.0f);
+  const Spectrum baseSpectrum = rgbReflectanceSpectrum(base, lambda);
+
+  if (metal > 0.0f) {
+    Lobe conductor;
+    conductor.kind = LobeKind::SmoothConductor;
+    conductor.weight = Spectrum(metal);
+    for (int i = 0; i < lambda.count; ++i) gulbrandsenIor(baseSpectrum[i], baseSpectrum[i], conductor.a.v[i], conductor.b.v[i]);
+    bsdf.add(conductor);
+  }
+  const float dielectricShare = (1.0f - metal) * transmission;
+  if (dielectricShare > 0.0f) {
+    Lobe glass;
+    glass.kind = LobeKind::SmoothDielectric;
+    glass.weight = baseSpectrum * dielectricShare;
+    for (int i = 0; i < lambda.count; ++i) glass.a.v[i] = dispersiveIor(m.ior, m.dispersion, lambda.lambdaNm[i]);
+    glass.etaVaries = m.dispersion > 0.0f && m.ior != 1.0f;
+    bsdf.add(glass);
+  }
+  const float diffuseShare = (1.0f - metal) * (1.0f - transmission);
+  if (diffuseShare > 0.0f) {
+    Lobe diffuse;
+    diffuse.kind = LobeKind::Lambertian;
+    diffuse.weight = baseSpectrum * diffuseShare;
+    bsdf.add(diffuse);
+  }
+}
+
+}  // namespace tex::render

@@ -1,0 +1,68 @@
+// Materials at run time: for every scene material, what the renderer gets at a hit — a BSDF
+// (a weighted mixture of native lobes) and emitted radiance — at the path's wavelengths.
+// A material is either a compiled .tex closure bound by the scene file (the closure tree the
+// JIT-compiled function returns is walked into lobes) or the built-in reading of a glTF
+// metallic-roughness material (renderer/material/gltf_material.cpp).
+#pragma once
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "renderer/bsdf/bsdf.h"
+#include "renderer/core/spectrum.h"
+#include "renderer/geometry/scene_geometry.h"
+#include "renderer/scene/scene_description.h"
+
+namespace tex::render {
+
+struct MaterialOptions {
+  int wavelengths = 4;  // lanes the .tex code is compiled for (the path's group size)
+  bool quickCompile = false;
+  bool useCache = true;
+};
+
+// What shading a hit gives.
+struct ShadingPoint {
+  Vec3 p, ng, ns;  // position, geometric and shading normals (world, unit)
+  Vec2 uv{0.0f};
+  Vec3 dpdu{0.0f};
+};
+
+struct CompileReport {
+  int texMaterials = 0;
+  double compileMs = 0;
+  bool cacheHit = false;
+};
+
+class MaterialSystem {
+ public:
+  // Compiles the scene's .tex bindings; on failure returns null and `error` holds rendered
+  // diagnostics (file:line:col with carets).
+  static std::unique_ptr<MaterialSystem> create(const SceneDescription& scene, const MaterialOptions& options,
+                                                std::string& error);
+  ~MaterialSystem();
+
+  // The BSDF and emitted radiance (toward the front side) at a point of `material` (-1: the
+  // default grey diffuse). Returns false if the material could not be evaluated (its closure
+  // tree overflowed the arena or holds an unknown kind); the result is then black.
+  bool shade(int material, const ShadingPoint& point, const Wavelengths& lambda, Bsdf& bsdf, Spectrum& emission) const;
+  // Emitted radiance only (area lights).
+  Spectrum emission(int material, const ShadingPoint& point, const Wavelengths& lambda) const;
+  bool isEmissive(int material) const;
+  bool emitsBothSides(int material) const;
+  // A scalar proxy of the average emitted radiance (for choosing lights by power).
+  float averageEmission(int material) const;
+
+  const CompileReport& compileReport() const { return report_; }
+  // Evaluation failures so far (arena overflow, unknown closure kinds), for the summary.
+  uint64_t failures() const;
+
+  struct Impl;
+
+ private:
+  MaterialSystem() = default;
+  std::unique_ptr<Impl> impl_;
+  CompileReport report_;
+};
+
+}  // namespace tex::render

@@ -1,0 +1,37 @@
+// Compiling the .tex materials a scene file binds (TexMaterialBinding) into one JIT module.
+// Each binding becomes a small generated wrapper module next to the material's file:
+//   import <stem> as m
+//   export fn binding(h: Hit, <Spectrum parameters>) -> Material = m.<entry>(h, name: value, ...)
+// so named arguments, defaults and type checking are the language's own, constant parameters
+// (Bool, Int, Float, vectors, colours) are folded by the compiler, and Spectrum-valued
+// parameters stay run-time arguments evaluated at each hit's wavelengths.
+#pragma once
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "compiler/abi.h"
+#include "compiler/jit.h"
+#include "renderer/scene/scene_description.h"
+#include "renderer/spectra/spectrum_desc.h"
+
+namespace tex::render {
+
+struct CompiledBinding {
+  compiler::EntryFn entry = nullptr;
+  std::vector<SpectrumSource> spectrumArgs;  // after the Hit, in order, one Spectrum each
+  std::string name;                          // "file.tex:entry", for messages
+};
+
+struct CompiledBindings {
+  std::unique_ptr<compiler::CompiledModule> module;
+  std::vector<CompiledBinding> bindings;  // parallel to SceneDescription::texMaterials
+  double compileMs = 0;
+  bool cacheHit = false;
+};
+
+// Returns false with rendered diagnostics in `error`.
+bool compileBindings(const SceneDescription& scene, int wavelengths, bool quick, bool useCache,
+                     CompiledBindings& out, std::string& error);
+
+}  // namespace tex::render

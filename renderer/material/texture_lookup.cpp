@@ -1,0 +1,81 @@
+#include "renderer/material/texture_lookup.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace tex::render {
+
+float srgbToLinear(float c) {
+  if (c <= 0.04045f) return c / 12.92f;
+  return std::pow((c + 0.055f) / 1.055f, 2.4f);
+}
+
+namespace {
+
+int wrapIndex(int i, int n, WrapMode mode) {
+  switch (mode) {
+    case WrapMode::ClampToEdge:
+      return std::clamp(i, 0, n - 1);
+    case WrapMode::MirroredRepeat: {
+      const int period = 2 * n;
+      int m = i % period;
+      if (m < 0) m += period;
+      return m < n ? m : period - 1 - m;
+    }
+    case WrapMode::Repeat:
+    default: {
+      int m = i % n;
+      return m < 0 ? m + n : m;
+    }
+  }
+}
+
+Vec4 texel(const ImageData& img, int x, int y, bool srgb) {
+  const float* px = &img.pixels[(size_t(y) * size_t(img.width) + size_t(x)) * size_t(img.channels)];
+  Vec4 c(1.0f);
+  switch (img.channels) {
+    case 1: c = Vec4(px[0], px[0], px[0], 1.0f); break;
+    case 2: c = Vec4(px[0], px[0], px[0], px[1]); break;
+    case 3: c = Vec4(px[0], px[1], px[2], 1.0f); break;
+    default: c = Vec4(px[0], px[1], px[2], px[3]); break;
+  }
+  if (srgb) {
+    c.x = srgbToLinear(c.x);
+    c.y = srgbToLinear(c.y);
+    c.z = srgbToLinear(c.z);
+  }
+  return c;
+}
+
+}  // namespace
+
+Vec4 lookupTexture(const SceneDescription& scene, const TextureRef& ref, Vec2 uv0, Vec2 uv1, bool srgb,
+                   const Vec4& fallback) {
+  if (ref.image < 0 || size_t(ref.image) >= scene.images.size()) return fallback;
+  const ImageData& img = scene.images[size_t(ref.image)];
+  if (img.width <= 0 || img.height <= 0 || img.channels <= 0 ||
+      img.pixels.size() < size_t(img.width) * size_t(img.height) * size_t(img.channels))
+    return fallback;
+  Vec2 uv = ref.texCoord == 1 ? uv1 : uv0;
+  // KHR_texture_transform: translation * rotation * scale, rotation counter-clockwise in uv.
+  if (ref.rotation != 0.0f || ref.scale != Vec2(1.0f) || ref.offset != Vec2(0.0f)) {
+    const Vec2 s = uv * ref.scale;
+    const float c = std::cos(ref.rotation), r = std::sin(ref.rotation);
+    uv = Vec2(c * s.x + r * s.y, -r * s.x + c * s.y) + ref.offset;
+  }
+  if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) return fallback;
+  const float x = uv.x * float(img.width) - 0.5f, y = uv.y * float(img.height) - 0.5f;
+  if (ref.nearest) {
+    const int ix = wrapIndex(int(std::floor(x + 0.5f)), img.width, ref.wrapS);
+    const int iy = wrapIndex(int(std::floor(y + 0.5f)), img.height, ref.wrapT);
+    return texel(img, ix, iy, srgb);
+  }
+  const float fx = std::floor(x), fy = std::floor(y);
+  const float tx = x - fx, ty = y - fy;
+  const int x0 = wrapIndex(int(fx), img.width, ref.wrapS), x1 = wrapIndex(int(fx) + 1, img.width, ref.wrapS);
+  const int y0 = wrapIndex(int(fy), img.height, ref.wrapT), y1 = wrapIndex(int(fy) + 1, img.height, ref.wrapT);
+  return (texel(img, x0, y0, srgb) * (1 - tx) + texel(img, x1, y0, srgb) * tx) * (1 - ty) +
+         (texel(img, x0, y1, srgb) * (1 - tx) + texel(img, x1, y1, srgb) * tx) * ty;
+}
+
+}  // namespace tex::render
