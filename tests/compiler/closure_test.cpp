@@ -1,0 +1,250 @@
+// Material closures built by compiled code: dielectric and conductor lobes, the
+// wavelength-dependence flag, mix weights and arena overflow, at 4 and 8 wavelengths, against
+// the interpreter's tree; and the std.spectra formulas.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "compiler/jit.h"
+#include "compiler/value_layout.h"
+#include "lang/interpreter.h"
+#include "lang/session.h"
+
+using namespace tex;
+using namespace tex::lang;
+using compiler::ClosureKind;
+using compiler::ClosureNode;
+using compiler::ClosureParam;
+
+namespace {
+
+// eta is an entry parameter of type Spectrum: the caller may pass anything, so the conductor
+// is flagged as varying unless eta is specialised to a constant.
+const char* kSource =
+    "import std.spectra.{cauchy}\n"
+    "export fn m(h: Hit, eta: Spectrum) -> Material =\n"
+    "  mix_material(mix_material(dielectric(cauchy(1.5, 4200.0)), dielectric(1.5), h.uv.x),\n"
+    "               conductor(eta, rgb(3.0, 2.5, 2.0)), 0.25)\n";
+
+struct Fixture {
+  Session session;
+  int fn = -1;
+  Fixture() {
+    ModuleInfo* m = session.loadSource("closure.tex", kSource);
+    auto& types = TypeTable::global();
+    if (m) fn = session.instantiate(m, "m", {types.hit(), types.spectrum()}, Span{});
+    for (auto& d : session.diags().items()) ADD_FAILURE() << renderDiagnostic(d);
+  }
+};
+
+WavelengthGroup groupOf(int lanes) {
+  WavelengthGroup g;
+  g.count = lanes;
+  for (int i = 0; i < lanes; ++i) g.lambdaNm[i] = 412.5f + 37.0f * float(i);  // not the default group
+  return g;
+}
+
+compiler::ShadingContext contextOf(const WavelengthGroup& g, compiler::ClosureArena* arena) {
+  compiler::ShadingContext ctx{};
+  for (int i = 0; i < g.count; ++i) ctx.lambdaNm[i] = g.lambdaNm[i];
+  ctx.wavelengthCount = g.count;
+  ctx.arena = arena;
+  return ctx;
+}
+
+Value etaValue(int lanes) {
+  Value eta;
+  for (int i = 0; i < lanes; ++i) eta.f[i] = 0.2f + 0.01f * float(i);
+  return eta;
+}
+
+std::vector<uint32_t> argWords(const Value& hit, const Value& eta, int lanes) {
+  std::vector<uint32_t> words;
+  compiler::flatten(hit, TypeTable::global().hit(), lanes, words);
+  compiler::flatten(eta, TypeTable::global().spectrum(), lanes, words);
+  return words;
+}
+
+class ClosureLanes : public ::testing::TestWithParam<int> {};
+
+TEST_P(ClosureLanes, JitBuildsTheTreeTheInterpreterBuilds) {
+  const int lanes = GetParam();
+  Fixture f;
+  ASSERT_GE(f.fn, 0);
+  compiler::CompileOptions options;
+  options.useCache = false;
+  options.wavelengths = lanes;
+  auto module = compiler::compile(f.session.program(), {f.fn}, options, f.session.diags());
+  ASSERT_NE(module, nullptr);
+
+  WavelengthGroup group = groupOf(lanes);
+  std::vector<ClosureNode> nodes(16);
+  compiler::ClosureArena arena{nodes.data(), int32_t(nodes.size()), 0, 0};
+  compiler::ShadingContext ctx = contextOf(group, &arena);
+  Value hit = makeHit(0.75f, 0.5f);
+  Value eta = etaValue(lanes);
+  std::vector<uint32_t> args = argWords(hit, eta, lanes);
+  int32_t root = -1;
+  module->entry(f.fn)(args.data(), &root, &ctx);
+  ASSERT_EQ(arena.overflow, 0);
+  ASSERT_EQ(arena.count, 5);
+  ASSERT_GE(root, 0);
+
+  const ClosureNode& top = nodes[size_t(root)];
+  ASSERT_EQ(top.kind, ClosureKind::Mix);
+  EXPECT_EQ(top.weight, 0.25f);
+  EXPECT_EQ(top.flags, 0u);
+  const ClosureNode& inner = nodes[size_t(top.a)];
+  ASSERT_EQ(inner.kind, ClosureKind::Mix);
+  EXPECT_EQ(inner.weight, 0.75f);  // h.uv.x
+
+  const ClosureNode& dispersive = nodes[size_t(inner.a)];
+  ASSERT_EQ(dispersive.kind, ClosureKind::Dielectric);
+  EXPECT_EQ(dispersive.paramKind, ClosureParam::Spectrum);
+  EXPECT_EQ(dispersive.flags, compiler::kClosureVariesWithWavelength);
+  for (int i = 0; i < lanes; ++i) {
+    float lambda = group.lambdaNm[i];
+    EXPECT_EQ(dispersive.params[i], 1.5f + 4200.0f / (lambda * lambda)) << "lane " << i;
+  }
+  EXPECT_GT(dispersive.params[0], dispersive.params[lanes - 1]);  // normal dispersion
+
+  const ClosureNode& constant = nodes[size_t(inner.b)];
+  ASSERT_EQ(constant.kind, ClosureKind::Dielectric);
+  EXPECT_EQ(constant.flags, 0u);
+  for (int i = 0; i < lanes; ++i) EXPECT_EQ(constant.params[i], 1.5f);
+
+  const ClosureNode& metal = nodes[size_t(top.b)];
+  ASSERT_EQ(metal.kind, ClosureKind::Conductor);
+  EXPECT_EQ(metal.paramKind, ClosureParam::Spectrum);
+  EXPECT_EQ(metal.param2Kind, ClosureParam::Color);
+  EXPECT_EQ(metal.flags, compiler::kClosureVariesWithWavelength);
+  for (int i = 0; i < lanes; ++i) EXPECT_EQ(metal.params[i], eta.f[i]);
+  EXPECT_EQ(metal.params2[0], 3.0f);
+  EXPECT_EQ(metal.params2[1], 2.5f);
+  EXPECT_EQ(metal.params2[2], 2.0f);
+
+  // The interpreter builds the same tree, flags included.
+  Value interp = evaluate(f.session.program(), f.fn, {hit, eta}, group);
+  Value jit = compiler::unflatten(reinterpret_cast<const uint32_t*>(&root), TypeTable::global().material(), lanes, &arena);
+  ASSERT_TRUE(interp.material && jit.material);
+  const Type* material = TypeTable::global().material();
+  EXPECT_EQ(formatValue(jit, material, group), formatValue(interp, material, group));
+  const MaterialNode* interpDispersive = interp.material->a->a.get();
+  ASSERT_EQ(interpDispersive->kind, MaterialNode::Kind::Dielectric);
+  EXPECT_EQ(interpDispersive->flags, kMaterialVariesWithWavelength);
+  EXPECT_EQ(interp.material->a->b->flags, 0u);
+  EXPECT_EQ(interp.material->b->flags, kMaterialVariesWithWavelength);
+}
+
+TEST_P(ClosureLanes, ArenaOverflowIsReportedNotACrash) {
+  const int lanes = GetParam();
+  Fixture f;
+  ASSERT_GE(f.fn, 0);
+  compiler::CompileOptions options;
+  options.useCache = false;
+  options.wavelengths = lanes;
+  auto module = compiler::compile(f.session.program(), {f.fn}, options, f.session.diags());
+  ASSERT_NE(module, nullptr);
+  WavelengthGroup group = groupOf(lanes);
+  std::vector<uint32_t> args = argWords(makeHit(0.5f, 0.5f), etaValue(lanes), lanes);
+  // Three of the five nodes fit; the guard node after them must stay untouched.
+  std::vector<ClosureNode> nodes(4);
+  nodes[3].kind = ClosureKind(77);
+  compiler::ClosureArena arena{nodes.data(), 3, 0, 0};
+  compiler::ShadingContext ctx = contextOf(group, &arena);
+  int32_t root = 0;
+  module->entry(f.fn)(args.data(), &root, &ctx);
+  EXPECT_EQ(arena.overflow, 1);
+  EXPECT_EQ(arena.count, 3);
+  EXPECT_EQ(root, -1);
+  EXPECT_EQ(uint32_t(nodes[3].kind), 77u);
+  // No arena at all: the material is invalid (-1), nothing is written.
+  ctx.arena = nullptr;
+  root = 0;
+  module->entry(f.fn)(args.data(), &root, &ctx);
+  EXPECT_EQ(root, -1);
+}
+
+INSTANTIATE_TEST_SUITE_P(Wavelengths, ClosureLanes, ::testing::Values(4, 8));
+
+TEST(Closure, ConstantSpectrumArgumentsClearTheFlag) {
+  // Specialising eta to a constant (a material parameter) makes the conductor wavelength-
+  // independent in both the JIT and the interpreter; the Cauchy dielectric still varies.
+  Fixture f;
+  ASSERT_GE(f.fn, 0);
+  Value eta = Value::ofFloat(0.3f);
+  int special = f.session.specialise(f.fn, {nullptr, &eta});
+  ASSERT_GE(special, 0);
+  compiler::CompileOptions options;
+  options.useCache = false;
+  auto module = compiler::compile(f.session.program(), {special}, options, f.session.diags());
+  ASSERT_NE(module, nullptr);
+  WavelengthGroup group = groupOf(4);
+  std::vector<ClosureNode> nodes(8);
+  compiler::ClosureArena arena{nodes.data(), 8, 0, 0};
+  compiler::ShadingContext ctx = contextOf(group, &arena);
+  std::vector<uint32_t> args;
+  Value hit = makeHit(0.5f, 0.5f);
+  compiler::flatten(hit, TypeTable::global().hit(), 4, args);
+  int32_t root = -1;
+  module->entry(special)(args.data(), &root, &ctx);
+  ASSERT_GE(root, 0);
+  const ClosureNode& metal = nodes[size_t(nodes[size_t(root)].b)];
+  ASSERT_EQ(metal.kind, ClosureKind::Conductor);
+  EXPECT_EQ(metal.flags, 0u);
+  EXPECT_EQ(metal.params[3], 0.3f);
+  EXPECT_EQ(nodes[size_t(nodes[size_t(nodes[size_t(root)].a)].a)].flags, compiler::kClosureVariesWithWavelength);
+  Value interp = evaluate(f.session.program(), special, {hit}, group);
+  ASSERT_TRUE(interp.material);
+  EXPECT_EQ(interp.material->b->flags, 0u);
+  EXPECT_EQ(interp.material->a->a->flags, kMaterialVariesWithWavelength);
+}
+
+// Evaluates a Spectrum-valued std.spectra expression with the interpreter at given wavelengths.
+std::vector<float> spectrumAt(const std::string& expr, std::vector<float> lambdas) {
+  Session s;
+  ModuleInfo* m = s.loadSource("spectra.tex", "import std.spectra.{blackbody, cauchy, sellmeier, bk7}\n"
+                                              "fn main() = " + expr + "\n");
+  int fn = m ? s.instantiate(m, "main", {}, Span{}) : -1;
+  for (auto& d : s.diags().items()) ADD_FAILURE() << renderDiagnostic(d);
+  if (fn < 0) return {};
+  WavelengthGroup g;
+  g.count = int(lambdas.size());
+  for (size_t i = 0; i < lambdas.size(); ++i) g.lambdaNm[i] = lambdas[i];
+  Value v = evaluate(s.program(), fn, {}, g);
+  return std::vector<float>(v.f, v.f + lambdas.size());
+}
+
+TEST(Spectra, BlackbodyPeaksAtOneAtWiensWavelength) {
+  // 5795.5 K peaks at 500 nm (Wien: b / T); the normalised curve is 1 there and below 1 around.
+  std::vector<float> b = spectrumAt("blackbody(5795.5439)", {380, 450, 500, 550, 780});
+  ASSERT_EQ(b.size(), 5u);
+  EXPECT_NEAR(b[2], 1.0f, 1e-5f);
+  for (int i : {0, 1, 3, 4}) EXPECT_LT(b[i], b[2]) << i;
+  // A cooler body is redder: its 450/650 ratio is smaller.
+  std::vector<float> warm = spectrumAt("blackbody(2700.0)", {450, 650});
+  std::vector<float> hot = spectrumAt("blackbody(9000.0)", {450, 650});
+  EXPECT_LT(warm[0] / warm[1], hot[0] / hot[1]);
+  // Planck ratio between two wavelengths at 3000 K, computed in double precision.
+  auto planck = [](double nm, double t) { return std::pow(nm, -5.0) / std::expm1(1.438776877e7 / (nm * t)); };
+  std::vector<float> cool = spectrumAt("blackbody(3000.0)", {400, 700});
+  EXPECT_NEAR(cool[0] / cool[1], planck(400, 3000) / planck(700, 3000), 1e-4);
+}
+
+TEST(Spectra, IorsMatchTheirFormulasAndCatalogueValues) {
+  std::vector<float> c = spectrumAt("cauchy(1.5, 4200.0)", {400, 700});
+  EXPECT_EQ(c[0], 1.5f + 4200.0f / (400.0f * 400.0f));
+  EXPECT_EQ(c[1], 1.5f + 4200.0f / (700.0f * 700.0f));
+  // N-BK7: nd = 1.5168 at the helium d line (587.6 nm); nF = 1.5224 (486.1), nC = 1.5143 (656.3).
+  std::vector<float> n = spectrumAt("bk7()", {587.6f, 486.1f, 656.3f});
+  EXPECT_NEAR(n[0], 1.5168f, 1e-4f);
+  EXPECT_NEAR(n[1], 1.5224f, 1e-4f);
+  EXPECT_NEAR(n[2], 1.5143f, 1e-4f);
+  // A one-term Sellmeier with c = 0 is a constant sqrt(1 + b).
+  std::vector<float> flat = spectrumAt("sellmeier(1.25, 0.0, 0.0, 0.0, 0.0, 0.0)", {400, 700});
+  EXPECT_FLOAT_EQ(flat[0], 1.5f);
+  EXPECT_FLOAT_EQ(flat[1], 1.5f);
+}
+
+}  // namespace
