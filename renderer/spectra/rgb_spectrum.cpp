@@ -57,12 +57,17 @@ SigmoidPolynomial rgbToSigmoid(const Vec3& rgbIn) {
   const int res = table.resolution;
   const int largest = rgb[0] > rgb[1] ? (rgb[0] > rgb[2] ? 0 : 2) : (rgb[1] > rgb[2] ? 1 : 2);
   const float z = rgb[largest];  // > 0: not all equal
-  const float x = rgb[(largest + 1) % 3] / z * float(res - 1);
-  const float y = rgb[(largest + 2) % 3] / z * float(res - 1);
-  const int xi = std::min(int(x), res - 2), yi = std::min(int(y), res - 2);
-  const int zi = int(std::upper_bound(table.zNodes + 1, table.zNodes + res - 1, z) - table.zNodes) - 1;
-  const float dx = x - float(xi), dy = y - float(yi);
-  const float dz = (z - table.zNodes[zi]) / (table.zNodes[zi + 1] - table.zNodes[zi]);
+  const float x = rgb[(largest + 1) % 3] / z, y = rgb[(largest + 2) % 3] / z;
+  // Cell and fraction along one axis: nodes[i] <= v < nodes[i + 1] (the last cell includes 1).
+  const auto locate = [res](const float* nodes, float v, int& i, float& f) {
+    i = int(std::upper_bound(nodes + 1, nodes + res - 1, v) - nodes) - 1;
+    f = (v - nodes[i]) / (nodes[i + 1] - nodes[i]);
+  };
+  int xi, yi, zi;
+  float dx, dy, dz;
+  locate(table.xyNodes, x, xi, dx);
+  locate(table.xyNodes, y, yi, dy);
+  locate(table.zNodes, z, zi, dz);
 
   // Trilinear interpolation of the coefficients.
   float c[3] = {0, 0, 0};

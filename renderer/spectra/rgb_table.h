@@ -9,7 +9,8 @@ namespace tex::render {
 
 struct RgbSigmoidTable {
   int resolution = 0;
-  const float* zNodes = nullptr;  // resolution values, increasing from 0 to 1
+  const float* zNodes = nullptr;   // resolution values, increasing from 0 to 1
+  const float* xyNodes = nullptr;  // resolution values, increasing from 0 to 1
   const float* coeffs = nullptr;  // [3][resolution z][resolution y][resolution x][3], nm units
 
   const float* cell(int largest, int zi, int yi, int xi) const {
