@@ -166,6 +166,9 @@ GltfMaterial convert(GltfImport& import, const tinygltf::Material& m, int index)
 }  // namespace
 
 void importMaterials(GltfImport& import) {
+  // Report broken textures even when no material uses them (the shared CornellBox has one).
+  for (size_t t = 0; t < import.model.textures.size(); ++t)
+    textureRef(import, int(t), 0, {}, "texture " + std::to_string(t));
   import.materialOffset = int(import.scene.materials.size());
   for (size_t i = 0; i < import.model.materials.size(); ++i)
     import.scene.materials.push_back(convert(import, import.model.materials[i], int(i)));

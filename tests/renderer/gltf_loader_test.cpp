@@ -1,0 +1,505 @@
+// glTF loading: the shared real-world models (facts from /work/shared/gltf/README.md) and
+// broken inputs, which must give errors naming the file, never a crash.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+
+#include <nlohmann/json.hpp>
+
+#include "renderer/scene/gltf_loader.h"
+#include "renderer/scene/load_scene.h"
+
+namespace tex::render {
+namespace {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+const std::string kShared = TEX_SOURCE_DIR "/../shared/gltf";
+const std::string kFixtures = TEX_SOURCE_DIR "/tests/renderer/data/scenes";
+
+#define SKIP_WITHOUT_SHARED()                                                      \
+  if (!fs::exists(kShared)) GTEST_SKIP() << "shared glTF models not found at " << kShared
+
+SceneDescription mustLoad(const std::string& relative) {
+  std::vector<std::string> errors;
+  std::optional<SceneDescription> scene = loadGltf(kShared + "/" + relative, errors);
+  std::string joined;
+  for (const auto& e : errors) joined += e + "\n";
+  EXPECT_TRUE(scene.has_value()) << joined;
+  EXPECT_TRUE(errors.empty()) << joined;
+  return scene ? *scene : SceneDescription{};
+}
+
+size_t instancedTriangles(const SceneDescription& scene) {
+  size_t n = 0;
+  for (const MeshInstance& i : scene.instances) n += scene.primitives[size_t(i.primitive)].indices.size() / 3;
+  return n;
+}
+
+bool anyContains(const std::vector<std::string>& messages, const std::string& needle) {
+  for (const auto& m : messages)
+    if (m.find(needle) != std::string::npos) return true;
+  return false;
+}
+
+// Every primitive's indices are in range and whole triangles (the loader's contract).
+void expectValidMeshes(const SceneDescription& scene) {
+  for (const MeshPrimitive& p : scene.primitives) {
+    ASSERT_EQ(p.indices.size() % 3, 0u);
+    for (uint32_t i : p.indices) ASSERT_LT(i, p.positions.size());
+    if (!p.normals.empty()) ASSERT_EQ(p.normals.size(), p.positions.size());
+    if (!p.uv0.empty()) ASSERT_EQ(p.uv0.size(), p.positions.size());
+    ASSERT_LT(p.material, int(scene.materials.size()));
+  }
+  for (const MeshInstance& i : scene.instances) ASSERT_LT(size_t(i.primitive), scene.primitives.size());
+}
+
+TEST(GltfLoader, EverySharedModelLoadsWithTheReadmeTriangleCounts) {
+  SKIP_WITHOUT_SHARED();
+  const std::map<std::string, size_t> triangles = {
+      {"Box/glTF-Binary/Box.glb", 12},
+      {"BoxTextured/glTF-Binary/BoxTextured.glb", 12},
+      {"Duck/glTF-Binary/Duck.glb", 4212},
+      {"TextureCoordinateTest/glTF-Binary/TextureCoordinateTest.glb", 10},
+      {"TextureTransformTest/glTF/TextureTransformTest.gltf", 24},
+      {"TransmissionTest/glTF-Binary/TransmissionTest.glb", 128775},
+      {"AttenuationTest/glTF-Binary/AttenuationTest.glb", 292},
+      {"DispersionTest/glTF-Binary/DispersionTest.glb", 51827},
+      {"LightsPunctualLamp/glTF/LightsPunctualLamp.gltf", 6000},
+      {"CornellBox/cornellBox.gltf", 16732},
+  };
+  for (const auto& [file, count] : triangles) {
+    SCOPED_TRACE(file);
+    SceneDescription scene = mustLoad(file);
+    EXPECT_EQ(instancedTriangles(scene), count);
+    expectValidMeshes(scene);
+  }
+}
+
+TEST(GltfLoader, BoxHas12TrianglesInTheUnitCube) {
+  SKIP_WITHOUT_SHARED();
+  SceneDescription scene = mustLoad("Box/glTF-Binary/Box.glb");
+  EXPECT_EQ(instancedTriangles(scene), 12u);
+  EXPECT_EQ(scene.primitives.size(), 1u);
+  const Bounds3 b = worldBounds(scene);
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_NEAR(b.lower[a], -0.5f, 1e-5f);
+    EXPECT_NEAR(b.upper[a], 0.5f, 1e-5f);
+  }
+  ASSERT_EQ(scene.materials.size(), 1u);
+  EXPECT_EQ(scene.materials[0].name, "Red");
+  EXPECT_NEAR(scene.materials[0].baseColorFactor.r, 0.8f, 1e-6f);
+  EXPECT_EQ(scene.materials[0].metallicFactor, 0.0f);
+  EXPECT_EQ(scene.materials[0].roughnessFactor, 1.0f);
+  EXPECT_TRUE(scene.cameras.empty());
+  EXPECT_TRUE(scene.lights.empty());
+}
+
+TEST(GltfLoader, BoxTexturedDecodesItsEmbeddedPng) {
+  SKIP_WITHOUT_SHARED();
+  SceneDescription scene = mustLoad("BoxTextured/glTF-Binary/BoxTextured.glb");
+  ASSERT_EQ(scene.images.size(), 1u);
+  const ImageData& image = scene.images[0];
+  EXPECT_GT(image.width, 0);
+  EXPECT_GT(image.height, 0);
+  EXPECT_EQ(image.pixels.size(), size_t(image.width) * size_t(image.height) * size_t(image.channels));
+  float lo = 1, hi = 0;
+  for (float v : image.pixels) lo = std::min(lo, v), hi = std::max(hi, v);
+  EXPECT_GE(lo, 0.0f);
+  EXPECT_LE(hi, 1.0f);
+  EXPECT_LT(lo, hi);  // not a constant image
+  ASSERT_EQ(scene.materials.size(), 1u);
+  EXPECT_EQ(scene.materials[0].baseColorTexture.image, 0);
+}
+
+TEST(GltfLoader, DuckHasAPerspectiveCameraAndTheReadmeBounds) {
+  SKIP_WITHOUT_SHARED();
+  SceneDescription scene = mustLoad("Duck/glTF-Binary/Duck.glb");
+  ASSERT_GE(scene.cameras.size(), 1u);
+  EXPECT_GT(scene.cameras[0].yFovRadians, 0.0f);
+  EXPECT_LT(scene.cameras[0].yFovRadians, kPi);
+  const Bounds3 b = worldBounds(scene);
+  const Vec3 lower(-0.693f, 0.099f, -0.613f), upper(0.962f, 1.640f, 0.539f);
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_NEAR(b.lower[a], lower[a], 2e-3f);
+    EXPECT_NEAR(b.upper[a], upper[a], 2e-3f);
+  }
+  // The camera frame is orthonormal (scale in its node chain is removed).
+  const Mat4& m = scene.cameras[0].cameraToWorld;
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(glm::length(Vec3(m[c])), 1.0f, 1e-5f);
+}
+
+TEST(GltfLoader, TextureCoordinateTestReadsUint8Indices) {
+  SKIP_WITHOUT_SHARED();
+  SceneDescription scene = mustLoad("TextureCoordinateTest/glTF-Binary/TextureCoordinateTest.glb");
+  EXPECT_EQ(instancedTriangles(scene), 10u);
+  for (const MeshPrimitive& p : scene.primitives) EXPECT_EQ(p.indices.size(), 6u);
+  for (const GltfMaterial& m : scene.materials) EXPECT_TRUE(m.doubleSided);
+  // "TopLeftMesh" shows the upper-left of the texture: its TEXCOORD_0 lie in about [0, 0.4].
+  bool found = false;
+  for (const MeshPrimitive& p : scene.primitives)
+    if (p.meshName == "TopLeftMesh") {
+      found = true;
+      ASSERT_FALSE(p.uv0.empty());
+      for (const Vec2& uv : p.uv0) {
+        EXPECT_LE(uv.x, 0.45f);
+        EXPECT_LE(uv.y, 0.45f);
+      }
+    }
+  EXPECT_TRUE(found);
+}
+
+TEST(GltfLoader, TextureTransformTestHasNoNormalsAndParsesTransforms) {
+  SKIP_WITHOUT_SHARED();
+  SceneDescription scene = mustLoad("TextureTransformTest/glTF/TextureTransformTest.gltf");
+  for (const MeshPrimitive& p : scene.primitives) EXPECT_TRUE(p.normals.empty());
+  EXPECT_EQ(scene.primitives.size(), 9u);  // 9 meshes instanced by 12 nodes
+  EXPECT_EQ(scene.instances.size(), 12u);
+  bool rotation = false, scale = false, offset = false, clamped = false;
+  for (const GltfMaterial& m : scene.materials) {
+    const TextureRef& t = m.baseColorTexture;
+    if (std::fabs(t.rotation - 0.39269908f) < 1e-5f) rotation = true;  // 22.5 degrees
+    if (std::fabs(t.scale.x - 1.5f) < 1e-6f && std::fabs(t.scale.y - 1.5f) < 1e-6f) scale = true;
+    if (t.offset != Vec2(0.0f)) offset = true;
+    clamped = clamped || (t.image >= 0 && t.wrapS == WrapMode::ClampToEdge && t.wrapT == WrapMode::ClampToEdge);
+  }
+  EXPECT_TRUE(rotation);
+  EXPECT_TRUE(scale);
+  EXPECT_TRUE(offset);
+  EXPECT_TRUE(clamped);  // textures 0 and 1 use the CLAMP_TO_EDGE sampler
+}
+
+TEST(GltfLoader, LightsPunctualLampHasFivePointLightsWithTheReadmeIntensities) {
+  SKIP_WITHOUT_SHARED();
+  SceneDescription scene = mustLoad("LightsPunctualLamp/glTF/LightsPunctualLamp.gltf");
+  ASSERT_EQ(scene.lights.size(), 5u);
+  std::map<std::string, float> intensity;
+  for (const LightDesc& l : scene.lights) {
+    EXPECT_EQ(l.kind, LightDesc::Kind::Point);
+    EXPECT_EQ(l.emission.kind, SpectrumDesc::Kind::Rgb);
+    intensity[l.name] = l.intensity;
+  }
+  EXPECT_FLOAT_EQ(intensity["Point"], 15.0f);
+  EXPECT_FLOAT_EQ(intensity["Point.001"], 80.0f);
+  EXPECT_FLOAT_EQ(intensity["Point.002"], 1.5f);
+  EXPECT_FLOAT_EQ(intensity["Point.003"], 80.0f);
+  EXPECT_FLOAT_EQ(intensity["Point.004"], 180.0f);
+  for (const LightDesc& l : scene.lights)
+    if (l.name == "Point") {
+      EXPECT_NEAR(l.emission.rgb.g, 0.632f, 1e-3f);
+      EXPECT_NEAR(l.emission.rgb.b, 0.239f, 1e-3f);
+    }
+  // Each light sits at its (root) node's matrix translation and shines down the node's -z.
+  std::ifstream in(kShared + "/LightsPunctualLamp/glTF/LightsPunctualLamp.gltf");
+  const json doc = json::parse(in);
+  size_t checked = 0;
+  for (const json& node : doc["nodes"]) {
+    if (!node.contains("extensions")) continue;
+    const int index = node["extensions"]["KHR_lights_punctual"]["light"];
+    const std::string name = doc["extensions"]["KHR_lights_punctual"]["lights"][size_t(index)]["name"];
+    const json& m = node["matrix"];
+    for (const LightDesc& l : scene.lights)
+      if (l.name == name) {
+        ++checked;
+        EXPECT_NEAR(l.position.x, float(m[12]), 1e-5f);
+        EXPECT_NEAR(l.position.y, float(m[13]), 1e-5f);
+        EXPECT_NEAR(l.position.z, float(m[14]), 1e-5f);
+        const Vec3 minusZ = -glm::normalize(Vec3(float(m[8]), float(m[9]), float(m[10])));
+        EXPECT_NEAR(glm::dot(l.direction, minusZ), 1.0f, 1e-5f);
+      }
+  }
+  EXPECT_EQ(checked, 5u);
+  bool transmissive = false, tangents = false;
+  for (const GltfMaterial& m : scene.materials) transmissive = transmissive || m.transmissionFactor > 0;
+  for (const MeshPrimitive& p : scene.primitives) tangents = tangents || !p.tangents.empty();
+  EXPECT_TRUE(transmissive);
+  EXPECT_TRUE(tangents);
+}
+
+TEST(GltfLoader, CornellBoxWarnsAboutTheMissingImageAndLoads) {
+  SKIP_WITHOUT_SHARED();
+  SceneDescription scene = mustLoad("CornellBox/cornellBox.gltf");
+  EXPECT_TRUE(anyContains(scene.warnings, "image")) << "expected a warning about texture 0's missing image";
+  EXPECT_TRUE(anyContains(scene.warnings, "cornellBox.gltf"));
+  for (const GltfMaterial& m : scene.materials) {
+    EXPECT_EQ(m.baseColorTexture.image, -1);
+    EXPECT_EQ(m.emissiveTexture.image, -1);
+  }
+  EXPECT_TRUE(scene.lights.empty());
+  ASSERT_EQ(scene.cameras.size(), 1u);
+  EXPECT_NEAR(scene.cameras[0].yFovRadians, 0.7175f, 1e-3f);
+  EXPECT_NEAR(scene.cameras[0].aspect, 4.0f / 3.0f, 1e-3f);
+  bool panel = false;
+  for (const GltfMaterial& m : scene.materials) panel = panel || m.emissiveFactor == Vec3(10.0f);
+  EXPECT_TRUE(panel);
+}
+
+TEST(GltfLoader, DispersionTestHas25IorDispersionPairsWithDefaultIor) {
+  SKIP_WITHOUT_SHARED();
+  SceneDescription scene = mustLoad("DispersionTest/glTF-Binary/DispersionTest.glb");
+  std::map<std::pair<int, int>, int> pairs;  // (ior * 100, dispersion * 10) -> count
+  for (const MeshInstance& i : scene.instances) {
+    if (i.nodeName.rfind("Prism_IOR", 0) != 0) continue;
+    const MeshPrimitive& p = scene.primitives[size_t(i.primitive)];
+    ASSERT_GE(p.material, 0);
+    const GltfMaterial& m = scene.materials[size_t(p.material)];
+    EXPECT_EQ(m.transmissionFactor, 1.0f);
+    EXPECT_NEAR(m.thicknessFactor, 0.018478f, 1e-5f);
+    pairs[{int(std::lround(m.ior * 100)), int(std::lround(m.dispersion * 10))}]++;
+  }
+  EXPECT_EQ(pairs.size(), 25u);
+  for (int ior : {100, 133, 150, 176, 242})
+    for (int dispersion : {0, 5, 10, 20, 50}) EXPECT_EQ(pairs.count({ior, dispersion}), 1u) << ior << " " << dispersion;
+}
+
+TEST(GltfLoader, AttenuationTestReadsVolumeParameters) {
+  SKIP_WITHOUT_SHARED();
+  SceneDescription scene = mustLoad("AttenuationTest/glTF-Binary/AttenuationTest.glb");
+  int volumetric = 0;
+  for (const GltfMaterial& m : scene.materials)
+    if (m.thicknessFactor > 0) {
+      ++volumetric;
+      EXPECT_NEAR(m.attenuationColor.r, 0.1f, 1e-4f);
+      EXPECT_NEAR(m.attenuationColor.g, 0.5f, 1e-4f);
+      EXPECT_NEAR(m.attenuationColor.b, 0.9f, 1e-4f);
+      EXPECT_GE(m.attenuationDistance, 0.25f);
+    }
+  EXPECT_EQ(volumetric, 11);
+  // 292 triangles instanced from 232 stored: meshes shared by nodes are stored once.
+  size_t stored = 0;
+  for (const MeshPrimitive& p : scene.primitives) stored += p.indices.size() / 3;
+  EXPECT_EQ(stored, 232u);
+  EXPECT_EQ(instancedTriangles(scene), 292u);
+}
+
+TEST(GltfLoader, MetalRoughSpheresInstancesAboutOneMillionTriangles) {
+  SKIP_WITHOUT_SHARED();
+  SceneDescription scene = mustLoad("MetalRoughSpheresNoTextures/glTF-Binary/MetalRoughSpheresNoTextures.glb");
+  EXPECT_EQ(instancedTriangles(scene), 1040409u);
+  // One MeshPrimitive per glTF primitive of the 102 meshes, however many nodes use them.
+  std::ifstream in(kShared + "/MetalRoughSpheresNoTextures/glTF-Binary/MetalRoughSpheresNoTextures.glb",
+                   std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  uint32_t jsonBytes = 0;
+  std::memcpy(&jsonBytes, bytes.data() + 12, 4);
+  const json doc = json::parse(bytes.substr(20, jsonBytes));
+  size_t gltfPrimitives = 0;
+  for (const json& mesh : doc["meshes"]) gltfPrimitives += mesh["primitives"].size();
+  EXPECT_EQ(doc["meshes"].size(), 102u);
+  EXPECT_EQ(scene.primitives.size(), gltfPrimitives);
+  const Bounds3 b = worldBounds(scene);
+  const Vec3 extent = b.upper - b.lower;  // millimetre-sized, in metres
+  EXPECT_GT(extent.x, 0.005f);
+  EXPECT_LT(extent.x, 0.01f);
+}
+
+// ---- broken inputs ----------------------------------------------------------------------
+
+class GltfBroken : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("tex_gltf_test_" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+    std::ifstream in(kFixtures + "/quad.gltf");
+    base_ = json::parse(in);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::string write(const std::string& name, const std::string& bytes) {
+    const std::string path = (dir_ / name).string();
+    std::ofstream(path, std::ios::binary) << bytes;
+    return path;
+  }
+  // Loads `doc` and expects an error that names the file and contains `needle`.
+  void expectError(const json& doc, const std::string& needle) {
+    const std::string path = write("broken.gltf", doc.dump());
+    std::vector<std::string> errors;
+    EXPECT_FALSE(loadGltf(path, errors).has_value());
+    ASSERT_FALSE(errors.empty());
+    EXPECT_TRUE(anyContains(errors, path)) << errors[0];
+    EXPECT_TRUE(anyContains(errors, needle)) << errors[0];
+  }
+
+  fs::path dir_;
+  json base_;
+};
+
+TEST_F(GltfBroken, TheFixtureItselfLoads) {
+  std::vector<std::string> errors;
+  auto scene = loadGltf(kFixtures + "/quad.gltf", errors);
+  ASSERT_TRUE(scene) << (errors.empty() ? "" : errors[0]);
+  EXPECT_EQ(scene->primitives.size(), 1u);  // one mesh used by two nodes
+  EXPECT_EQ(scene->instances.size(), 2u);
+  const Bounds3 b = worldBounds(*scene);
+  EXPECT_NEAR(b.lower.x, -2.0f, 1e-5f);  // the scaled quad
+  EXPECT_NEAR(b.upper.y, 2.0f, 1e-5f);
+  EXPECT_NEAR(b.lower.z, -3.0f, 1e-5f);  // the quad turned 90 degrees about y, moved to z = -2
+  EXPECT_NEAR(b.upper.z, -1.0f, 1e-5f);
+}
+
+TEST_F(GltfBroken, TruncatedGlb) {
+  SKIP_WITHOUT_SHARED();
+  std::ifstream in(kShared + "/Duck/glTF-Binary/Duck.glb", std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  for (size_t length : {size_t(3000), size_t(12), size_t(100), bytes.size() / 2, bytes.size() - 1}) {
+    const std::string path = write("truncated.glb", bytes.substr(0, length));
+    std::vector<std::string> errors;
+    EXPECT_FALSE(loadGltf(path, errors).has_value()) << length;
+    ASSERT_FALSE(errors.empty());
+    EXPECT_TRUE(anyContains(errors, path));
+  }
+}
+
+TEST_F(GltfBroken, GarbageBytes) {
+  std::string garbage(4096, '\0');
+  uint32_t state = 12345;
+  for (char& c : garbage) c = char((state = state * 1664525u + 1013904223u) >> 24);
+  for (const char* name : {"garbage.glb", "garbage.gltf"}) {
+    const std::string path = write(name, garbage);
+    std::vector<std::string> errors;
+    EXPECT_FALSE(loadGltf(path, errors).has_value());
+    EXPECT_TRUE(anyContains(errors, path));
+  }
+  // A glb header that claims more data than there is.
+  std::string header = "glTF";
+  const uint32_t fields[] = {2, 1000000, 999980, 0x4E4F534A};
+  header.append(reinterpret_cast<const char*>(fields), sizeof fields);
+  std::vector<std::string> errors;
+  EXPECT_FALSE(loadGltf(write("lying.glb", header + "{}"), errors).has_value());
+}
+
+TEST_F(GltfBroken, MissingFile) {
+  std::vector<std::string> errors;
+  EXPECT_FALSE(loadGltf((dir_ / "nope.glb").string(), errors).has_value());
+  EXPECT_TRUE(anyContains(errors, "nope.glb"));
+}
+
+TEST_F(GltfBroken, AccessorIndexOutOfRange) {
+  json doc = base_;
+  doc["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = 99;
+  expectError(doc, "accessor 99");
+}
+
+TEST_F(GltfBroken, IndexValueNotBelowVertexCount) {
+  json doc = base_;
+  // Point the index accessor at the normals' bytes read as uint16: (0,0,1.0f) has 0x3F80 = 16256.
+  doc["accessors"][3]["bufferView"] = 1;
+  expectError(doc, "vertices");
+}
+
+TEST_F(GltfBroken, BufferViewBeyondItsBuffer) {
+  json doc = base_;
+  doc["bufferViews"][2]["byteLength"] = 1000;
+  std::vector<std::string> errors;
+  const std::string path = write("broken.gltf", doc.dump());
+  EXPECT_FALSE(loadGltf(path, errors).has_value());
+  EXPECT_TRUE(anyContains(errors, path));
+}
+
+TEST_F(GltfBroken, AccessorBeyondItsBufferView) {
+  json doc = base_;
+  doc["accessors"][0]["count"] = 5;
+  expectError(doc, "do not fit");
+  doc = base_;
+  doc["accessors"][0]["byteOffset"] = 4;
+  expectError(doc, "do not fit");
+}
+
+TEST_F(GltfBroken, WrongComponentTypeOrType) {
+  json doc = base_;
+  doc["accessors"][0]["type"] = "VEC2";
+  expectError(doc, "expected VEC3");
+  doc = base_;
+  doc["accessors"][3]["componentType"] = 5126;  // float indices
+  expectError(doc, "componentType");
+}
+
+TEST_F(GltfBroken, IndexCountNotAMultipleOfThree) {
+  json doc = base_;
+  doc["accessors"][3]["count"] = 5;
+  expectError(doc, "multiple of 3");
+}
+
+TEST_F(GltfBroken, NodeCycle) {
+  json doc = base_;
+  doc["nodes"][1]["children"] = json::array({0});
+  std::vector<std::string> errors;
+  const std::string path = write("broken.gltf", doc.dump());
+  EXPECT_FALSE(loadGltf(path, errors).has_value());
+  EXPECT_TRUE(anyContains(errors, path));
+}
+
+TEST_F(GltfBroken, UnsupportedRequiredExtension) {
+  json doc = base_;
+  doc["extensionsUsed"] = json::array({"KHR_draco_mesh_compression"});
+  doc["extensionsRequired"] = json::array({"KHR_draco_mesh_compression"});
+  expectError(doc, "KHR_draco_mesh_compression");
+}
+
+TEST_F(GltfBroken, MissingImageFileIsAWarning) {
+  json doc = base_;
+  doc["images"] = json::array({{{"uri", "does_not_exist.png"}}});
+  doc["textures"] = json::array({{{"source", 0}}, {{"source", 7}}});
+  doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+  doc["materials"][0]["emissiveTexture"] = {{"index", 1}};
+  std::vector<std::string> errors;
+  auto scene = loadGltf(write("missing_image.gltf", doc.dump()), errors);
+  ASSERT_TRUE(scene) << errors[0];
+  EXPECT_EQ(scene->materials[0].baseColorTexture.image, -1);
+  EXPECT_EQ(scene->materials[0].emissiveTexture.image, -1);
+  EXPECT_TRUE(anyContains(scene->warnings, "does_not_exist.png"));
+  EXPECT_TRUE(anyContains(scene->warnings, "image 7"));
+}
+
+TEST_F(GltfBroken, SparseAccessorOverridesPositions) {
+  json doc = base_;
+  // Replace vertex 2 by the first normal, (0, 0, 1), through a sparse substitution.
+  doc["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", 128}, {"byteLength", 2}});  // index 0 (uint16)
+  doc["accessors"][0]["sparse"] = {{"count", 1},
+                                   {"indices", {{"bufferView", 4}, {"componentType", 5123}}},
+                                   {"values", {{"bufferView", 1}}}};
+  doc["accessors"][0].erase("min");
+  doc["accessors"][0].erase("max");
+  std::vector<std::string> errors;
+  auto scene = loadGltf(write("sparse.gltf", doc.dump()), errors);
+  ASSERT_TRUE(scene) << errors[0];
+  EXPECT_EQ(scene->primitives[0].positions[0], Vec3(0, 0, 1));
+  EXPECT_EQ(scene->primitives[0].positions[1], Vec3(1, -1, 0));
+  // Sparse values that do not fit in their buffer view are an error.
+  doc["accessors"][0]["sparse"]["indices"]["bufferView"] = 3;  // 5 indices < 4 vertices, but 5 values need 60 bytes of 48
+  doc["accessors"][0]["sparse"]["count"] = 5;
+  expectError(doc, "sparse");
+}
+
+TEST_F(GltfBroken, NonIndexedAndStripPrimitives) {
+  json doc = base_;
+  doc["meshes"][0]["primitives"][0].erase("indices");
+  doc["meshes"][0]["primitives"][0]["mode"] = 5;  // strip of 4 vertices: 2 triangles
+  std::vector<std::string> errors;
+  auto scene = loadGltf(write("strip.gltf", doc.dump()), errors);
+  ASSERT_TRUE(scene) << errors[0];
+  EXPECT_EQ(scene->primitives[0].indices, (std::vector<uint32_t>{0, 1, 2, 2, 1, 3}));
+  doc["meshes"][0]["primitives"][0]["mode"] = 1;  // lines: skipped with a warning
+  scene = loadGltf(write("lines.gltf", doc.dump()), errors);
+  ASSERT_TRUE(scene);
+  EXPECT_TRUE(scene->primitives.empty());
+  EXPECT_TRUE(anyContains(scene->warnings, "mode 1"));
+}
+
+TEST_F(GltfBroken, EveryByteTruncationOfAGlbFailsCleanly) {
+  SKIP_WITHOUT_SHARED();
+  std::ifstream in(kShared + "/Box/glTF-Binary/Box.glb", std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  for (size_t length = 0; length < bytes.size(); length += 7) {
+    std::vector<std::string> errors;
+    EXPECT_FALSE(loadGltf(write("cut.glb", bytes.substr(0, length)), errors).has_value()) << length;
+  }
+}
+
+}  // namespace
+}  // namespace tex::render
