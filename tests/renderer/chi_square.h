@@ -79,7 +79,7 @@ inline ChiSquareResult chiSquareTest(const std::vector<double>& observed, const 
       }
       continue;
     }
-    if (expected[k] < 5 || pooledExpected > 0 && pooledExpected < 5) {
+    if (expected[k] < 5 || (pooledExpected > 0 && pooledExpected < 5)) {
       pooledObserved += observed[k];
       pooledExpected += expected[k];
       if (pooledExpected >= 5) {
