@@ -108,10 +108,11 @@ Spectrum PathTracer::radiance(uint64_t index, const Ray& primary, Wavelengths& l
     const Vec3 wo = -ray.direction;
     Bsdf bsdf(Frame::fromNormalTangent(hit.ns, hit.dpdu), hit.ng);
     Spectrum Le;
-    if (!materials.shade(hit.material, sp, lambda, bsdf, Le)) ++counters.materialFailures;
+    const int material = materials.materialOfPrimitive(hit.primitive);
+    if (!materials.shade(material, sp, lambda, bsdf, Le)) ++counters.materialFailures;
 
     // Emission seen by this path: MIS against the light sampling of the previous vertex.
-    if (!Le.isBlack() && (dot3(wo, hit.ng) > 0.0f || materials.emitsBothSides(hit.material))) {
+    if (!Le.isBlack() && (dot3(wo, hit.ng) > 0.0f || materials.emitsBothSides(material))) {
       if (specularBounce) {
         L += beta * Le;
       } else {

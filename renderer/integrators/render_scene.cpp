@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <map>
 
 #include "renderer/lights/light_factory.h"
 #include "renderer/lights/triangle_light.h"
@@ -90,13 +91,12 @@ std::unique_ptr<RenderScene> RenderScene::build(const SceneDescription& scene, c
     rs->lights_.push_back(std::move(light));
   }
   // One triangle light per emissive triangle of every instance.
-  std::vector<RenderScene::Emission*> emissionOfMaterial(scene.materials.size() + 1, nullptr);
-  const auto emissionFor = [&](int material) -> const EmissionSource* {
-    const size_t slot = material >= 0 && size_t(material) < scene.materials.size() ? size_t(material) : scene.materials.size();
+  std::map<int, RenderScene::Emission*> emissionOfMaterial;
+  const auto emissionFor = [&](int slot) -> const EmissionSource* {
     if (!emissionOfMaterial[slot]) {
       auto e = std::make_unique<RenderScene::Emission>();
       e->materials = rs->materials_.get();
-      e->material = material;
+      e->material = slot;
       emissionOfMaterial[slot] = e.get();
       rs->emissionSources_.push_back(std::move(e));
     }
@@ -106,10 +106,12 @@ std::unique_ptr<RenderScene> RenderScene::build(const SceneDescription& scene, c
   rs->areaLightBase_.assign(size_t(instanceCount), -1);
   for (int i = 0; i < instanceCount; ++i) {
     if (!rs->geometry_->hasInstance(i)) continue;
-    const MeshPrimitive* prim = &scene.primitives[size_t(scene.instances[size_t(i)].primitive)];
-    if (!rs->materials_->isEmissive(prim->material) || prim->indices.empty()) continue;
+    const int primitive = scene.instances[size_t(i)].primitive;
+    const MeshPrimitive* prim = &scene.primitives[size_t(primitive)];
+    const int material = rs->materials_->materialOfPrimitive(primitive);
+    if (!rs->materials_->isEmissive(material) || prim->indices.empty()) continue;
     rs->areaLightBase_[size_t(i)] = int64_t(rs->lights_.size());
-    const EmissionSource* source = emissionFor(prim->material);
+    const EmissionSource* source = emissionFor(material);
     const uint32_t triangles = uint32_t(prim->indices.size() / 3);
     for (uint32_t t = 0; t < triangles; ++t) {
       TriangleLightDesc d;

@@ -27,14 +27,18 @@ struct MaterialSystem::Impl {
   const SceneDescription* scene = nullptr;
   MaterialOptions options;
   CompiledBindings compiled;
-  std::vector<int> bindingOfMaterial;  // per scene material (+1 slot for the default, -1)
+  // Material slots: scene materials [0, M), the default grey M, then one slot per binding that
+  // matches by mesh name (M + 1 + k). bindingOfMaterial maps a slot to its .tex binding or -1.
+  std::vector<int> bindingOfMaterial;
+  std::vector<int> slotOfPrimitive;  // per primitive: the slot its hits shade with
   std::vector<uint8_t> emissive;       // per material slot
   std::vector<float> averageEmission;  // per material slot
   mutable std::atomic<uint64_t> failures{0};
 
   int slot(int material) const {
-    return material >= 0 && size_t(material) < scene->materials.size() ? material : int(scene->materials.size());
+    return material >= 0 && size_t(material) < bindingOfMaterial.size() ? material : int(scene->materials.size());
   }
+  const GltfMaterial* gltf(int s) const { return size_t(s) < scene->materials.size() ? &scene->materials[size_t(s)] : nullptr; }
 };
 
 MaterialSystem::~MaterialSystem() = default;
@@ -53,11 +57,27 @@ std::unique_ptr<MaterialSystem> MaterialSystem::create(const SceneDescription& s
   ms->report_.texMaterials = int(im.compiled.bindings.size());
   ms->report_.compileMs = im.compiled.compileMs;
   ms->report_.cacheHit = im.compiled.cacheHit;
-  const size_t slots = scene.materials.size() + 1;
-  im.bindingOfMaterial.assign(slots, -1);
+  im.bindingOfMaterial.assign(scene.materials.size() + 1, -1);
   for (size_t m = 0; m < scene.materials.size(); ++m) im.bindingOfMaterial[m] = bindingForMaterial(scene, int(m));
-  // Mesh-name bindings apply to materials used only by that mesh's primitives: resolved per
-  // primitive by the scene loader, which gives such primitives their own material slot.
+  // Bindings by mesh name win over the primitive's glTF material (the more specific match).
+  im.slotOfPrimitive.resize(scene.primitives.size());
+  for (size_t p = 0; p < scene.primitives.size(); ++p) {
+    const int material = scene.primitives[p].material;
+    im.slotOfPrimitive[p] = material >= 0 && size_t(material) < scene.materials.size() ? material : int(scene.materials.size());
+    for (size_t b = 0; b < scene.texMaterials.size(); ++b) {
+      if (scene.texMaterials[b].matchMesh.empty() || scene.texMaterials[b].matchMesh != scene.primitives[p].meshName) continue;
+      int slot = -1;
+      for (size_t k = scene.materials.size() + 1; k < im.bindingOfMaterial.size(); ++k)
+        if (im.bindingOfMaterial[k] == int(b)) slot = int(k);
+      if (slot < 0) {
+        slot = int(im.bindingOfMaterial.size());
+        im.bindingOfMaterial.push_back(int(b));
+      }
+      im.slotOfPrimitive[p] = slot;
+      break;
+    }
+  }
+  const size_t slots = im.bindingOfMaterial.size();
   im.emissive.assign(slots, 0);
   im.averageEmission.assign(slots, 0.0f);
   // Probe each material once at a neutral point with a fixed wavelength group to learn whether
@@ -68,14 +88,14 @@ std::unique_ptr<MaterialSystem> MaterialSystem::create(const SceneDescription& s
   point.ng = point.ns = Vec3(0, 0, 1);
   point.uv = Vec2(0.5f);
   for (size_t s = 0; s < slots; ++s) {
-    const int material = s < scene.materials.size() ? int(s) : -1;
+    const int material = int(s);
     Bsdf bsdf(Frame::fromNormal(point.ns), point.ng);
     Spectrum e;
     bool sawEmission = false;
     if (im.bindingOfMaterial[s] >= 0) {
       ClosureEvaluation ev = evaluateBinding(im.compiled.bindings[size_t(im.bindingOfMaterial[s])], point, probe, bsdf, e);
       sawEmission = ev.sawEmission;
-    } else if (material >= 0) {
+    } else if (s < scene.materials.size()) {
       const GltfMaterial& gm = scene.materials[s];
       sawEmission = gm.emissiveFactor * gm.emissiveStrength != Vec3(0.0f);
       shadeGltfMaterial(scene, gm, point, probe, bsdf, e);
@@ -102,14 +122,14 @@ bool MaterialSystem::shade(int material, const ShadingPoint& point, const Wavele
     }
     return true;
   }
-  if (material < 0 || size_t(material) >= im.scene->materials.size()) {
+  if (!im.gltf(s)) {
     Lobe grey;
     grey.kind = LobeKind::Lambertian;
     grey.weight = Spectrum(0.8f);
     bsdf.add(grey);
     return true;
   }
-  shadeGltfMaterial(*im.scene, im.scene->materials[size_t(material)], point, lambda, bsdf, emission);
+  shadeGltfMaterial(*im.scene, *im.gltf(s), point, lambda, bsdf, emission);
   return true;
 }
 
@@ -117,7 +137,8 @@ Spectrum MaterialSystem::emission(int material, const ShadingPoint& point, const
   const Impl& im = *impl_;
   const int s = im.slot(material);
   if (!im.emissive[size_t(s)]) return Spectrum();
-  if (im.bindingOfMaterial[size_t(s)] < 0) return gltfEmission(*im.scene, im.scene->materials[size_t(material)], point, lambda);
+  if (im.bindingOfMaterial[size_t(s)] < 0)
+    return im.gltf(s) ? gltfEmission(*im.scene, *im.gltf(s), point, lambda) : Spectrum();
   Bsdf bsdf(Frame::fromNormal(point.ns), point.ng);
   Spectrum e;
   shade(material, point, lambda, bsdf, e);
@@ -128,8 +149,13 @@ bool MaterialSystem::isEmissive(int material) const { return impl_->emissive[siz
 
 bool MaterialSystem::emitsBothSides(int material) const {
   const Impl& im = *impl_;
-  return material >= 0 && size_t(material) < im.scene->materials.size() && im.bindingOfMaterial[size_t(material)] < 0 &&
-         im.scene->materials[size_t(material)].doubleSided;
+  const int s = im.slot(material);
+  return im.gltf(s) && im.bindingOfMaterial[size_t(s)] < 0 && im.gltf(s)->doubleSided;
+}
+
+int MaterialSystem::materialOfPrimitive(int primitive) const {
+  return primitive >= 0 && size_t(primitive) < impl_->slotOfPrimitive.size() ? impl_->slotOfPrimitive[size_t(primitive)]
+                                                                              : int(impl_->scene->materials.size());
 }
 
 float MaterialSystem::averageEmission(int material) const { return impl_->averageEmission[size_t(impl_->slot(material))]; }

@@ -42,8 +42,11 @@ class MaterialSystem {
                                                 std::string& error);
   ~MaterialSystem();
 
-  // The BSDF and emitted radiance (toward the front side) at a point of `material` (-1: the
-  // default grey diffuse). Returns false if the material could not be evaluated (its closure
+  // The material slot a primitive's hits shade with: its glTF material, or a .tex binding
+  // that matches its mesh name, or the default grey diffuse. The functions below take slots.
+  int materialOfPrimitive(int primitive) const;
+  // The BSDF and emitted radiance (toward the front side) at a point of `material` (a slot;
+  // -1 or out of range: the default grey diffuse). Returns false if the material could not be evaluated (its closure
   // tree overflowed the arena or holds an unknown kind); the result is then black.
   bool shade(int material, const ShadingPoint& point, const Wavelengths& lambda, Bsdf& bsdf, Spectrum& emission) const;
   // Emitted radiance only (area lights).
