@@ -168,7 +168,12 @@ bool compileBindings(const SceneDescription& scene, int wavelengths, bool quick,
         const std::string local = "p" + std::to_string(cb.spectrumArgs.size());
         wrapperParams += ", " + local + ": Spectrum";
         callArgs += ", " + params[p].name + ": " + local;
-        cb.spectrumArgs.push_back(spectrumArgument(it->second));
+        try {
+          cb.spectrumArgs.push_back(spectrumArgument(it->second));
+        } catch (const std::exception& e) {
+          problems += where + ": error: parameter '" + params[p].name + "' of material '" + b.entry + "': " + e.what() + "\n";
+          ok = false;
+        }
         continue;
       }
       std::string literal, why;

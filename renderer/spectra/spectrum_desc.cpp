@@ -43,6 +43,15 @@ SpectrumSource::SpectrumSource(const SpectrumDesc& desc, SpectrumUse use) : desc
       break;
     }
   }
+  // Tables and Planck's law are resampled once at whole nanometres over the visible range, so
+  // that evaluation at a path's wavelengths is an index and a lerp (exact for tables whose
+  // knots are whole nanometres, as every built-in one is; within 1 nm resolution otherwise).
+  if (desc.kind == SpectrumDesc::Kind::Named || desc.kind == SpectrumDesc::Kind::Tabulated ||
+      desc.kind == SpectrumDesc::Kind::Blackbody) {
+    auto dense = std::make_shared<std::vector<float>>(kDenseCount);
+    for (int i = 0; i < kDenseCount; ++i) (*dense)[size_t(i)] = atExact(kDenseMinNm + float(i));
+    dense_ = std::move(dense);
+  }
   if (isConstant()) {
     luminance_ = at(560.0f);  // Y of a flat spectrum is its value in both conventions
   } else {
@@ -60,6 +69,19 @@ SpectrumSource SpectrumSource::constant(float value) {
 }
 
 float SpectrumSource::at(float lambdaNm) const {
+  if (dense_) {
+    const float x = lambdaNm - kDenseMinNm;
+    if (x >= 0.0f && x < float(kDenseCount - 1)) {
+      const int i = int(x);
+      const float t = x - float(i);
+      const float* d = dense_->data();
+      return d[i] + t * (d[i + 1] - d[i]);
+    }
+  }
+  return atExact(lambdaNm);
+}
+
+float SpectrumSource::atExact(float lambdaNm) const {
   switch (desc_.kind) {
     case SpectrumDesc::Kind::Constant:
       return factor_;

@@ -33,6 +33,9 @@ class SpectrumSource {
 
  private:
   using Table = std::vector<std::pair<float, float>>;
+  static constexpr float kDenseMinNm = 360.0f;
+  static constexpr int kDenseCount = 471;  // 360..830 nm in 1 nm steps
+  float atExact(float lambdaNm) const;
 
   SpectrumDesc desc_;
   SpectrumUse use_ = SpectrumUse::Reflectance;
@@ -42,6 +45,7 @@ class SpectrumSource {
   SigmoidPolynomial sigmoid_;                 // Rgb
   const Table* table_ = nullptr;              // Named (library-owned) or Tabulated (ownedTable_)
   std::shared_ptr<const Table> ownedTable_;
+  std::shared_ptr<const std::vector<float>> dense_;  // resampled shape x factor (see at())
 };
 
 // A named spectrum from the built-in library, or nullptr if unknown. Names: see
