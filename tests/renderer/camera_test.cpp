@@ -232,12 +232,12 @@ TEST(Camera, LightTracingAndCameraRaysMeasureTheSamePixels) {
     const Mat4& m = camera.settings().cameraToWorld;
     const Vec3 right = glm::normalize(Vec3(m[0])), up = glm::normalize(Vec3(m[1]));
     SquareEmitter emitter;
-    emitter.edgeU = right * 2.5f + camera.forward() * 0.8f;
-    emitter.edgeV = up * 1.8f - camera.forward() * 0.3f;
-    emitter.corner = centre - 0.3f * emitter.edgeU - 0.6f * emitter.edgeV;
+    emitter.edgeU = right * 5.0f + camera.forward() * 0.8f;
+    emitter.edgeV = up * 3.5f - camera.forward() * 0.3f;
+    emitter.corner = centre - 0.45f * emitter.edgeU - 0.4f * emitter.edgeV;  // reaches a corner of the film
     emitter.n = glm::normalize(glm::cross(emitter.edgeU, emitter.edgeV));
     if (dot3(emitter.n, camera.forward()) > 0) emitter.n = -emitter.n;
-    constexpr int kGrid = 4, kSamples = 400000;
+    constexpr int kGrid = 4, kSamples = 1000000;
     std::vector<MeanError> cameraEstimate(kGrid * kGrid), lightEstimate(kGrid * kGrid);
     sampling::Pcg32 rng(9, 5);
     // Pixel value = integral of L over the pixel's film area, divided by that area.
