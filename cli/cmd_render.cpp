@@ -26,7 +26,8 @@ const char* kRenderUsage =
     "SCENE is a scene file (.json, docs/scene-format.md) or a glTF 2.0 file (.gltf, .glb).\n"
     "\n"
     "options (flags override the scene file's settings):\n"
-    "  -o, --output PATH   image to write: .exr (RGB + variance, metadata) or .png (default render.exr)\n"
+    "  -o, --output PATH   image to write: .exr (RGB + variance, metadata) or .png (default render.exr);\n"
+    "                      repeat -o to write the same render in several files\n"
     "  --spp N             samples per pixel (default 16)\n"
     "  --time SECONDS      stop starting new work after this long; the image keeps what was done\n"
     "  --threads T         worker threads (default: all cores)\n"
@@ -54,7 +55,8 @@ int fail(const std::string& message) {
 }
 
 struct RenderFlags {
-  std::string scene, output = "render.exr", samplesOut, integrator;
+  std::string scene, samplesOut, integrator;
+  std::vector<std::string> outputs;  // -o may repeat: the same render written to each
   int spp = -1, width = -1, height = -1, maxDepth = -1, wavelengths = -1, camera = -1;
   int64_t seed = -1;
   double timeSeconds = 0;
@@ -77,7 +79,7 @@ int parseFlags(const Args& args, RenderFlags& f) {
     uint64_t count = 0;
     if (a == "-o" || a == "--output") {
       if (!value()) return usage("-o needs a path");
-      f.output = v;
+      f.outputs.push_back(v);
     } else if (a == "--spp") {
       if (!value() || !parseIntInRange(v, f.spp, 1, 1 << 24)) return usage("--spp needs a count 1..16777216, got '" + v + "'");
     } else if (a == "--time") {
@@ -122,8 +124,11 @@ int parseFlags(const Args& args, RenderFlags& f) {
     }
   }
   if (f.scene.empty()) return usage("which scene? (a .json scene file or a .gltf/.glb model)");
-  const std::string ext = std::filesystem::path(f.output).extension().string();
-  if (ext != ".exr" && ext != ".png") return usage("output must end in .exr or .png, got '" + f.output + "'");
+  if (f.outputs.empty()) f.outputs.push_back("render.exr");
+  for (const std::string& output : f.outputs) {
+    const std::string ext = std::filesystem::path(output).extension().string();
+    if (ext != ".exr" && ext != ".png") return usage("output must end in .exr or .png, got '" + output + "'");
+  }
   return 0;
 }
 
@@ -246,9 +251,13 @@ int runRender(const Args& args) {
       {"tex.wavelengths", std::to_string(s.wavelengths)},
       {"tex.filter", filterName(f.filter)},
       {"tex.nonFiniteSamples", std::to_string(counters.nonFiniteSamples)}};
-  const bool png = std::filesystem::path(f.output).extension() == ".png";
-  const std::string e = png ? writeRgbImage(f.output, image.rgbImage()) : writeExr(f.output, image.toExr(true, false, metadata));
-  if (!e.empty()) return fail(e);
+  for (const std::string& output : f.outputs) {
+    const bool png = std::filesystem::path(output).extension() == ".png";
+    const std::string e = png ? writeRgbImage(output, image.rgbImage()) : writeExr(output, image.toExr(true, false, metadata));
+    if (!e.empty()) return fail(e);
+  }
+  std::string written;
+  for (const std::string& output : f.outputs) written += (written.empty() ? "" : ", ") + output;
 
   const double seconds = std::max(result.seconds, 1e-9);
   std::printf("%s: %llu samples (%.2f spp) in %.2f s, %s samples/s, %s rays/s, %d threads%s; %llu NaN/Inf samples zeroed%s -> %s\n",
@@ -259,7 +268,7 @@ int runRender(const Args& args) {
               result.cancelled ? " (interrupted: partial image)" : result.timeBudgetReached ? " (time budget reached)" : "",
               (unsigned long long)counters.nonFiniteSamples,
               counters.materialFailures ? (", " + std::to_string(counters.materialFailures) + " material evaluation failures").c_str() : "",
-              f.output.c_str());
+              written.c_str());
   return 0;
 }
 
