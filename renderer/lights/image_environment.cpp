@@ -25,13 +25,15 @@ ImageEnvironment::ImageEnvironment(const RgbImage& image, const Mat4& environmen
     const float len = std::sqrt(lengthSquared(axis));
     toWorld_[c] = len > 0.0f ? axis / len : Vec3(c == 0, c == 1, c == 2);
   }
+  const bool valid = width_ > 0 && height_ > 0 && image.rgb.size() >= size_t(width_) * size_t(height_) * 3;
+  if (!valid) width_ = height_ = 1;  // an inconsistent image: one black pixel (the loader reports bad files)
   const size_t pixels = size_t(width_) * size_t(height_);
   rgb_.resize(pixels * 3);
   luminance_.resize(pixels);
   for (size_t i = 0; i < pixels; ++i) {
     Vec3 c;
     for (int k = 0; k < 3; ++k) {
-      const float v = image.rgb[i * 3 + k] * scale;
+      const float v = valid ? image.rgb[i * 3 + k] * scale : 0.0f;
       c[k] = std::isfinite(v) && v > 0.0f ? v : 0.0f;  // negative or broken pixels emit nothing
       rgb_[i * 3 + k] = c[k];
     }

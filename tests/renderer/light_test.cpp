@@ -626,6 +626,14 @@ TEST(Light, NoNaNAtGrazingAnglesOrDegenerateInputs) {
   const SpotLight needle(Vec3(0.0f), Vec3(0, 0, 1), SpectrumSource::constant(1.0f), 0.0f, 0.0f);
   EXPECT_EQ(needle.power(), 0.0f);
   EXPECT_FALSE(needle.sampleLe(Vec2(0.5f), Vec2(0.5f), kLambda));
+  // An inconsistent in-memory image is a black environment, not a crash.
+  RgbImage broken;
+  broken.width = 4, broken.height = 2;
+  broken.rgb.assign(5, 1.0f);
+  const ImageEnvironment black(broken, Mat4(1.0f));
+  EXPECT_EQ(black.power(), 0.0f);
+  EXPECT_FALSE(black.sampleLi(Vec3(0.0f), Vec2(0.5f), kLambda));
+  EXPECT_TRUE(black.Le(Ray{}, kLambda).isBlack());
   const PointLight point(Vec3(1.0f), SpectrumSource::constant(1.0f));
   EXPECT_FALSE(point.sampleLi(Vec3(1.0f), Vec2(0.5f), kLambda));
 }
