@@ -13,7 +13,13 @@ std::unique_ptr<Light> makeLight(const LightDesc& desc, std::string& error) {
   error.clear();
   SpectrumDesc emission = desc.emission;
   emission.scale *= desc.intensity;
-  const SpectrumSource spectrum(emission, SpectrumUse::Illuminant);
+  SpectrumSource spectrum;
+  try {
+    spectrum = SpectrumSource(emission, SpectrumUse::Illuminant);
+  } catch (const std::exception& e) {
+    error = "light '" + desc.name + "': " + e.what();
+    return nullptr;
+  }
   switch (desc.kind) {
     case LightDesc::Kind::Point:
       return makePointLight(desc.position, spectrum);
