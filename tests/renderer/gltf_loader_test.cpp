@@ -52,8 +52,12 @@ void expectValidMeshes(const SceneDescription& scene) {
   for (const MeshPrimitive& p : scene.primitives) {
     ASSERT_EQ(p.indices.size() % 3, 0u);
     for (uint32_t i : p.indices) ASSERT_LT(i, p.positions.size());
-    if (!p.normals.empty()) ASSERT_EQ(p.normals.size(), p.positions.size());
-    if (!p.uv0.empty()) ASSERT_EQ(p.uv0.size(), p.positions.size());
+    if (!p.normals.empty()) {
+      ASSERT_EQ(p.normals.size(), p.positions.size());
+    }
+    if (!p.uv0.empty()) {
+      ASSERT_EQ(p.uv0.size(), p.positions.size());
+    }
     ASSERT_LT(p.material, int(scene.materials.size()));
   }
   for (const MeshInstance& i : scene.instances) ASSERT_LT(size_t(i.primitive), scene.primitives.size());

@@ -260,7 +260,9 @@ TEST(Shapes, SphereIsClosedWithOutwardNormalsOnTheSurface) {
       }
       EXPECT_GT(volume, 0.0);
       EXPECT_LT(volume, 4.0 / 3.0 * kPi * 8.0);
-      if (segments == 32 && rings == 16) EXPECT_NEAR(volume, 4.0 / 3.0 * kPi * 8.0, 0.05 * 4.0 / 3.0 * kPi * 8.0);
+      if (segments == 32 && rings == 16) {
+        EXPECT_NEAR(volume, 4.0 / 3.0 * kPi * 8.0, 0.05 * 4.0 / 3.0 * kPi * 8.0);
+      }
     }
   const MeshPrimitive inward = makeSphere(center, 1.0f, 8, 4, true);
   for (size_t v = 0; v < inward.positions.size(); ++v) EXPECT_LT(glm::dot(inward.normals[v], inward.positions[v] - center), 0.0f);
