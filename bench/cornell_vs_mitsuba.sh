@@ -1,0 +1,142 @@
+#!/usr/bin/env bash
+# The Cornell box, tex against Mitsuba 3, like for like (bench/README.md, "Cornell box against
+# Mitsuba 3"): the same scene (scenes/cornell-box-mitsuba.json is mi.cornell_box()), 256x256,
+# the same path lengths, 2 threads, Gaussian pixel filter, spectral rendering (tex: 4
+# wavelengths per path; Mitsuba: its *_spectral variants, also 4 per path).
+#
+# 1. Timing: tex and Mitsuba's scalar_spectral and llvm_ad_spectral variants at SPP_TIME spp,
+#    REPEAT times each, interleaved; the best of each is reported, in camera paths per second
+#    (width * height * spp / seconds of rendering; scene loading and JIT compilation excluded),
+#    with the ratios tex / Mitsuba.
+# 2. Agreement: each renders SPP_CMP spp; tex compare (RMSE, relative MSE, per-pixel Z-test
+#    with both images' variance channels) and the image means per channel with their standard
+#    errors. Mitsuba scalar against Mitsuba llvm is the noise-only control.
+#
+# Environment (all optional):
+#   TEX       tex binary to use (default: build with `bash .ci/build`, use build/bin/tex)
+#   VENV      Python venv with mitsuba + numpy (default build/bench-venv; created if missing)
+#   OUT       output folder (default build/bench-cornell)
+#   SPP_TIME  spp of the timing runs (default 64)     REPEAT  timing runs each (default 3)
+#   SPP_CMP   spp of the comparison images (default 256)
+#   THREADS   threads (default 2)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+ROOT=$(pwd)
+SCENE=scenes/cornell-box-mitsuba.json
+THREADS=${THREADS:-2}
+SPP_TIME=${SPP_TIME:-64}
+SPP_CMP=${SPP_CMP:-256}
+REPEAT=${REPEAT:-3}
+OUT=${OUT:-build/bench-cornell}
+VENV=${VENV:-build/bench-venv}
+mkdir -p "$OUT"
+
+# --- tex -----------------------------------------------------------------------------
+if [[ -z "${TEX:-}" ]]; then
+  echo "== building tex (bash .ci/build)"
+  bash .ci/build
+  TEX=build/bin/tex
+fi
+[[ -x "$TEX" ]] || { echo "no tex binary at $TEX" >&2; exit 1; }
+
+# --- Mitsuba 3 in a venv (idempotent) ------------------------------------------------
+if [[ ! -x "$VENV/bin/python" ]]; then
+  echo "== creating $VENV"
+  python3 -m venv "$VENV"
+fi
+if ! "$VENV/bin/python" -c 'import mitsuba, numpy' 2>/dev/null; then
+  echo "== installing mitsuba and numpy into $VENV"
+  "$VENV/bin/pip" install --quiet mitsuba numpy
+fi
+PY="$VENV/bin/python"
+MI="$PY bench/mitsuba_cornell.py"
+
+# Mitsuba's max_depth counts path vertices after the camera (1 = emitters seen directly),
+# tex's counts scattering events (0 = emitters seen directly): 8 there is 7 here.
+MI_DEPTH=8
+TEX_DEPTH=$((MI_DEPTH - 1))
+TEX_FLAGS=(--res 256x256 --threads "$THREADS" --wavelengths 4 --max-depth "$TEX_DEPTH" --filter gaussian -q)
+
+# tex's summary: "... N samples (S spp) in T s, ..." -> paths/s (one camera path per sample).
+tex_paths_per_s() {
+  sed -nE 's/.*: ([0-9]+) samples \([^)]*\) in ([0-9.]+) s,.*/\1 \2/p' "$1" | awk '{ printf "%.1f\n", $1 / $2 }'
+}
+# CPU seconds / wall seconds of the whole tex process (bash's `time`; includes scene set-up).
+tex_cpu() { sed -nE 's/^TIME ([0-9.]+) ([0-9.]+) ([0-9.]+)$/\1 \2 \3/p' "$1" | awk '{ printf "%.3f\n", ($2 + $3) / $1 }'; }
+mi_paths_per_s() { sed -nE 's/^RESULT .* paths_per_s=([0-9.]+).*/\1/p' "$1"; }
+mi_cpu() { sed -nE 's/^RESULT .* cpu_utilisation=([0-9.]+).*/\1/p' "$1"; }
+best() { sort -g | tail -1; }
+
+echo "== machine: $(nproc) cores, load average $(cut -d' ' -f1-3 /proc/loadavg); $("$PY" -c 'import mitsuba; print("mitsuba", mitsuba.__version__)')"
+echo "== timing: 256x256, $SPP_TIME spp, $THREADS threads, Mitsuba max_depth $MI_DEPTH = tex max_depth $TEX_DEPTH, best of $REPEAT"
+echo "   (paths/s; in brackets CPU seconds / wall seconds: below $THREADS means other processes took CPU time)"
+for r in tex scalar llvm; do : >"$OUT/${r}_rates"; : >"$OUT/${r}_per_cpu"; done
+for ((i = 1; i <= REPEAT; ++i)); do
+  TIMEFORMAT='TIME %R %U %S'
+  { time "$TEX" render "$SCENE" -o "$OUT/tex_time.exr" --spp "$SPP_TIME" "${TEX_FLAGS[@]}" ; } >"$OUT/tex_time.log" 2>&1
+  tex_paths_per_s "$OUT/tex_time.log" >>"$OUT/tex_rates"
+  tex_cpu "$OUT/tex_time.log" >"$OUT/tex_cpu"
+  awk -v r="$(tail -1 "$OUT/tex_rates")" -v c="$(cat "$OUT/tex_cpu")" 'BEGIN { printf "%.1f\n", r / c }' >>"$OUT/tex_per_cpu"
+  line="   run $i: tex $(awk -v r="$(tail -1 "$OUT/tex_rates")" 'BEGIN { printf "%.3f", r / 1e6 }') M ($(cat "$OUT/tex_cpu")x)"
+  for v in scalar llvm; do
+    variant=$([[ $v == scalar ]] && echo scalar_spectral || echo llvm_ad_spectral)
+    $MI --variant "$variant" --spp "$SPP_TIME" --threads "$THREADS" --max-depth "$MI_DEPTH" >"$OUT/${v}_time.log" 2>&1
+    mi_paths_per_s "$OUT/${v}_time.log" >>"$OUT/${v}_rates"
+    awk -v r="$(tail -1 "$OUT/${v}_rates")" -v c="$(mi_cpu "$OUT/${v}_time.log")" 'BEGIN { printf "%.1f\n", r / c }' >>"$OUT/${v}_per_cpu"
+    line+=", mitsuba $variant $(awk -v r="$(tail -1 "$OUT/${v}_rates")" 'BEGIN { printf "%.3f", r / 1e6 }') M ($(mi_cpu "$OUT/${v}_time.log")x)"
+  done
+  echo "$line"
+done
+for m in rates per_cpu; do
+  awk -v t="$(best <"$OUT/tex_$m")" -v s="$(best <"$OUT/scalar_$m")" -v l="$(best <"$OUT/llvm_$m")" -v m="$m" 'BEGIN {
+    what = m == "rates" ? "paths/s          " : "paths/CPU-second "
+    printf "   best %s tex %.3f M | mitsuba scalar_spectral %.3f M | llvm_ad_spectral %.3f M | tex/scalar %.3f | tex/llvm %.3f\n",
+      what, t/1e6, s/1e6, l/1e6, t/s, t/l }'
+done
+
+echo "== agreement: $SPP_CMP spp each"
+"$TEX" render "$SCENE" -o "$OUT/tex.exr" --spp "$SPP_CMP" "${TEX_FLAGS[@]}" | sed 's/^/   /'
+# 16 passes give Mitsuba's images a variance estimate (for the Z-test and the standard errors).
+PASS_SPP=$((SPP_CMP >= 16 ? SPP_CMP / 16 : 1))
+for v in scalar_spectral llvm_ad_spectral; do
+  $MI --variant "$v" --spp "$SPP_CMP" --pass-spp "$PASS_SPP" --threads "$THREADS" --max-depth "$MI_DEPTH" \
+    --seed 1000 -o "$OUT/mitsuba_$v.exr" 2>&1 | grep -v '^RESULT' | sed 's/^/   /'
+done
+for pair in "tex.exr mitsuba_scalar_spectral.exr" "tex.exr mitsuba_llvm_ad_spectral.exr" \
+            "mitsuba_llvm_ad_spectral.exr mitsuba_scalar_spectral.exr"; do
+  set -- $pair
+  echo "   tex compare $1 $2:"
+  "$TEX" compare --json "$OUT/$1" "$OUT/$2" | sed 's/^/     /'
+done
+
+# Image means per channel, their standard errors (from the variance channels; neighbouring
+# pixels share samples through the filter, so these are a little optimistic) and ratios.
+"$PY" - "$OUT/tex.exr" "$OUT/mitsuba_scalar_spectral.exr" "$OUT/mitsuba_llvm_ad_spectral.exr" <<'EOF'
+import sys
+import mitsuba as mi
+import numpy as np
+mi.set_variant("scalar_rgb")
+
+def load(path):
+    bitmap = mi.Bitmap(path)
+    data = np.array(bitmap, dtype=np.float64)
+    names = [bitmap.struct_()[i].name for i in range(bitmap.channel_count())]
+    channels = {name: data[..., i] for i, name in enumerate(names)}
+    mean = np.array([channels[c].mean() for c in "RGB"])
+    var = [channels.get("variance." + c) for c in "RGB"]
+    se = np.array([np.sqrt(v.sum()) / v.size if v is not None else np.nan for v in var])
+    return mean, se
+
+tex, tex_se = load(sys.argv[1])
+print("   image means (R G B) +- standard error:")
+print("     tex                      %s" % "  ".join("%.5f+-%.5f" % (m, s) for m, s in zip(tex, tex_se)))
+for path, name in ((sys.argv[2], "mitsuba scalar_spectral"), (sys.argv[3], "mitsuba llvm_ad_spectral")):
+    m, se = load(path)
+    ratio = tex / m
+    ratio_se = ratio * np.sqrt((tex_se / tex) ** 2 + (se / m) ** 2)
+    print("     %-24s %s" % (name, "  ".join("%.5f+-%.5f" % (a, s) for a, s in zip(m, se))))
+    print("       tex / %-20s R %.4f  G %.4f  B %.4f  (+- %.4f %.4f %.4f; deviations %s sigma)" %
+          ((name.split()[1],) + tuple(ratio) + tuple(ratio_se) +
+           (" ".join("%.1f" % d for d in (ratio - 1) / ratio_se),)))
+EOF
+echo "== images in $OUT"
