@@ -9,6 +9,7 @@
 #include <map>
 
 #include <nlohmann/json.hpp>
+#include <stb/stb_image_write.h>
 
 #include "renderer/scene/gltf_loader.h"
 #include "renderer/scene/load_scene.h"
@@ -304,7 +305,7 @@ TEST(GltfLoader, MetalRoughSpheresInstancesAboutOneMillionTriangles) {
 
 // ---- broken inputs ----------------------------------------------------------------------
 
-class GltfBroken : public ::testing::Test {
+class GltfMutated : public ::testing::Test {
  protected:
   void SetUp() override {
     dir_ = fs::temp_directory_path() / ("tex_gltf_test_" + std::to_string(::getpid()));
@@ -333,7 +334,7 @@ class GltfBroken : public ::testing::Test {
   json base_;
 };
 
-TEST_F(GltfBroken, TheFixtureItselfLoads) {
+TEST_F(GltfMutated, TheFixtureItselfLoads) {
   std::vector<std::string> errors;
   auto scene = loadGltf(kFixtures + "/quad.gltf", errors);
   ASSERT_TRUE(scene) << (errors.empty() ? "" : errors[0]);
@@ -346,7 +347,7 @@ TEST_F(GltfBroken, TheFixtureItselfLoads) {
   EXPECT_NEAR(b.upper.z, -1.0f, 1e-5f);
 }
 
-TEST_F(GltfBroken, TruncatedGlb) {
+TEST_F(GltfMutated, TruncatedGlb) {
   SKIP_WITHOUT_SHARED();
   std::ifstream in(kShared + "/Duck/glTF-Binary/Duck.glb", std::ios::binary);
   std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -359,7 +360,7 @@ TEST_F(GltfBroken, TruncatedGlb) {
   }
 }
 
-TEST_F(GltfBroken, GarbageBytes) {
+TEST_F(GltfMutated, GarbageBytes) {
   std::string garbage(4096, '\0');
   uint32_t state = 12345;
   for (char& c : garbage) c = char((state = state * 1664525u + 1013904223u) >> 24);
@@ -377,26 +378,26 @@ TEST_F(GltfBroken, GarbageBytes) {
   EXPECT_FALSE(loadGltf(write("lying.glb", header + "{}"), errors).has_value());
 }
 
-TEST_F(GltfBroken, MissingFile) {
+TEST_F(GltfMutated, MissingFile) {
   std::vector<std::string> errors;
   EXPECT_FALSE(loadGltf((dir_ / "nope.glb").string(), errors).has_value());
   EXPECT_TRUE(anyContains(errors, "nope.glb"));
 }
 
-TEST_F(GltfBroken, AccessorIndexOutOfRange) {
+TEST_F(GltfMutated, AccessorIndexOutOfRange) {
   json doc = base_;
   doc["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = 99;
   expectError(doc, "accessor 99");
 }
 
-TEST_F(GltfBroken, IndexValueNotBelowVertexCount) {
+TEST_F(GltfMutated, IndexValueNotBelowVertexCount) {
   json doc = base_;
   // Point the index accessor at the normals' bytes read as uint16: (0,0,1.0f) has 0x3F80 = 16256.
   doc["accessors"][3]["bufferView"] = 1;
   expectError(doc, "vertices");
 }
 
-TEST_F(GltfBroken, BufferViewBeyondItsBuffer) {
+TEST_F(GltfMutated, BufferViewBeyondItsBuffer) {
   json doc = base_;
   doc["bufferViews"][2]["byteLength"] = 1000;
   std::vector<std::string> errors;
@@ -405,7 +406,7 @@ TEST_F(GltfBroken, BufferViewBeyondItsBuffer) {
   EXPECT_TRUE(anyContains(errors, path));
 }
 
-TEST_F(GltfBroken, AccessorBeyondItsBufferView) {
+TEST_F(GltfMutated, AccessorBeyondItsBufferView) {
   json doc = base_;
   doc["accessors"][0]["count"] = 5;
   expectError(doc, "do not fit");
@@ -414,7 +415,7 @@ TEST_F(GltfBroken, AccessorBeyondItsBufferView) {
   expectError(doc, "do not fit");
 }
 
-TEST_F(GltfBroken, WrongComponentTypeOrType) {
+TEST_F(GltfMutated, WrongComponentTypeOrType) {
   json doc = base_;
   doc["accessors"][0]["type"] = "VEC2";
   expectError(doc, "expected VEC3");
@@ -423,13 +424,13 @@ TEST_F(GltfBroken, WrongComponentTypeOrType) {
   expectError(doc, "componentType");
 }
 
-TEST_F(GltfBroken, IndexCountNotAMultipleOfThree) {
+TEST_F(GltfMutated, IndexCountNotAMultipleOfThree) {
   json doc = base_;
   doc["accessors"][3]["count"] = 5;
   expectError(doc, "multiple of 3");
 }
 
-TEST_F(GltfBroken, NodeCycle) {
+TEST_F(GltfMutated, NodeCycle) {
   json doc = base_;
   doc["nodes"][1]["children"] = json::array({0});
   std::vector<std::string> errors;
@@ -438,14 +439,14 @@ TEST_F(GltfBroken, NodeCycle) {
   EXPECT_TRUE(anyContains(errors, path));
 }
 
-TEST_F(GltfBroken, UnsupportedRequiredExtension) {
+TEST_F(GltfMutated, UnsupportedRequiredExtension) {
   json doc = base_;
   doc["extensionsUsed"] = json::array({"KHR_draco_mesh_compression"});
   doc["extensionsRequired"] = json::array({"KHR_draco_mesh_compression"});
   expectError(doc, "KHR_draco_mesh_compression");
 }
 
-TEST_F(GltfBroken, MissingImageFileIsAWarning) {
+TEST_F(GltfMutated, MissingImageFileIsAWarning) {
   json doc = base_;
   doc["images"] = json::array({{{"uri", "does_not_exist.png"}}});
   doc["textures"] = json::array({{{"source", 0}}, {{"source", 7}}});
@@ -460,7 +461,7 @@ TEST_F(GltfBroken, MissingImageFileIsAWarning) {
   EXPECT_TRUE(anyContains(scene->warnings, "image 7"));
 }
 
-TEST_F(GltfBroken, SparseAccessorOverridesPositions) {
+TEST_F(GltfMutated, SparseAccessorOverridesPositions) {
   json doc = base_;
   // Replace vertex 2 by the first normal, (0, 0, 1), through a sparse substitution.
   doc["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", 128}, {"byteLength", 2}});  // index 0 (uint16)
@@ -480,7 +481,7 @@ TEST_F(GltfBroken, SparseAccessorOverridesPositions) {
   expectError(doc, "sparse");
 }
 
-TEST_F(GltfBroken, NonIndexedAndStripPrimitives) {
+TEST_F(GltfMutated, NonIndexedAndStripPrimitives) {
   json doc = base_;
   doc["meshes"][0]["primitives"][0].erase("indices");
   doc["meshes"][0]["primitives"][0]["mode"] = 5;  // strip of 4 vertices: 2 triangles
@@ -495,7 +496,111 @@ TEST_F(GltfBroken, NonIndexedAndStripPrimitives) {
   EXPECT_TRUE(anyContains(scene->warnings, "mode 1"));
 }
 
-TEST_F(GltfBroken, EveryByteTruncationOfAGlbFailsCleanly) {
+TEST_F(GltfMutated, MaterialExtensionsAndTextureTransforms) {
+  json doc = base_;
+  json& m = doc["materials"][0];
+  m["emissiveFactor"] = {1, 0.5, 0.25};
+  m["alphaMode"] = "MASK";
+  m["alphaCutoff"] = 0.3;
+  m["doubleSided"] = true;
+  m["extensions"] = {
+      {"KHR_materials_emissive_strength", {{"emissiveStrength", 40}}},
+      {"KHR_materials_transmission", {{"transmissionFactor", 0.75}}},
+      {"KHR_materials_ior", {{"ior", 1.33}}},
+      {"KHR_materials_dispersion", {{"dispersion", 2}}},
+      {"KHR_materials_volume",
+       {{"thicknessFactor", 0.5}, {"attenuationDistance", 2}, {"attenuationColor", {0.1, 0.5, 0.9}}}},
+      {"VENDOR_unknown", json::object()},
+  };
+  doc["extensionsUsed"] = {"KHR_materials_emissive_strength", "KHR_materials_transmission", "KHR_materials_ior",
+                           "KHR_materials_dispersion", "KHR_materials_volume", "VENDOR_unknown"};
+  doc["extensionsRequired"] = {"KHR_materials_transmission", "KHR_materials_volume"};  // supported: fine
+  std::vector<std::string> errors;
+  auto scene = loadGltf(write("extensions.gltf", doc.dump()), errors);
+  ASSERT_TRUE(scene) << errors[0];
+  const GltfMaterial& g = scene->materials[0];
+  EXPECT_EQ(g.emissiveFactor, Vec3(1, 0.5f, 0.25f));
+  EXPECT_EQ(g.emissiveStrength, 40.0f);
+  EXPECT_EQ(g.transmissionFactor, 0.75f);
+  EXPECT_FLOAT_EQ(g.ior, 1.33f);
+  EXPECT_EQ(g.dispersion, 2.0f);
+  EXPECT_EQ(g.thicknessFactor, 0.5f);
+  EXPECT_EQ(g.attenuationDistance, 2.0f);
+  EXPECT_EQ(g.attenuationColor, Vec3(0.1f, 0.5f, 0.9f));
+  EXPECT_EQ(g.alphaMode, GltfMaterial::AlphaMode::Mask);
+  EXPECT_FLOAT_EQ(g.alphaCutoff, 0.3f);
+  EXPECT_TRUE(g.doubleSided);
+  EXPECT_TRUE(anyContains(scene->warnings, "VENDOR_unknown"));
+}
+
+TEST_F(GltfMutated, TextureTransformOnAnExtensionTexture) {
+  // A 2x1 RGB PNG next to the fixture, as an external image.
+  const unsigned char pixels[] = {255, 0, 0, 0, 128, 255};
+  ASSERT_NE(stbi_write_png((dir_ / "logo.png").c_str(), 2, 1, 3, pixels, 6), 0);
+  json doc = base_;
+  doc["images"] = json::array({{{"uri", "logo.png"}}});
+  doc["samplers"] = json::array({{{"wrapS", 33648}, {"wrapT", 33071}, {"magFilter", 9728}}});
+  doc["textures"] = json::array({{{"source", 0}, {"sampler", 0}}});
+  doc["materials"][0]["extensions"]["KHR_materials_transmission"] = {
+      {"transmissionFactor", 1},
+      {"transmissionTexture",
+       {{"index", 0},
+        {"extensions", {{"KHR_texture_transform", {{"offset", {0.25, 0.5}}, {"rotation", 0.5}, {"scale", {2, 3}},
+                                                   {"texCoord", 1}}}}}}}};
+  std::vector<std::string> errors;
+  auto scene = loadGltf(write("transform.gltf", doc.dump()), errors);
+  ASSERT_TRUE(scene) << errors[0];
+  ASSERT_EQ(scene->images.size(), 1u);
+  const ImageData& image = scene->images[0];
+  EXPECT_EQ(image.width, 2);
+  EXPECT_EQ(image.height, 1);
+  ASSERT_EQ(image.channels, 3);
+  EXPECT_EQ(image.pixels, (std::vector<float>{1, 0, 0, 0, 128 / 255.0f, 1}));
+  const TextureRef& t = scene->materials[0].transmissionTexture;
+  EXPECT_EQ(t.image, 0);
+  EXPECT_EQ(t.offset, Vec2(0.25f, 0.5f));
+  EXPECT_EQ(t.rotation, 0.5f);
+  EXPECT_EQ(t.scale, Vec2(2, 3));
+  EXPECT_EQ(t.texCoord, 1);
+  EXPECT_EQ(t.wrapS, WrapMode::MirroredRepeat);
+  EXPECT_EQ(t.wrapT, WrapMode::ClampToEdge);
+  EXPECT_TRUE(t.nearest);
+}
+
+TEST_F(GltfMutated, SpotLightAndCamerasOnRotatedNodes) {
+  json doc = base_;
+  // Node 3: rotated -90 degrees about x, so its -z points down (-y).
+  doc["nodes"].push_back({{"name", "lamp"}, {"translation", {1, 2, 3}}, {"rotation", {-0.7071068, 0, 0, 0.7071068}},
+                          {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}, {"camera", 0}});
+  doc["nodes"].push_back({{"name", "ortho"}, {"camera", 1}});
+  doc["scenes"][0]["nodes"] = {0, 3, 4};
+  doc["extensions"]["KHR_lights_punctual"]["lights"] = json::array(
+      {{{"type", "spot"}, {"name", "spot"}, {"intensity", 7}, {"color", {1, 0, 0}},
+        {"spot", {{"innerConeAngle", 0.2}, {"outerConeAngle", 0.4}}}}});
+  doc["cameras"] = json::array({{{"type", "perspective"}, {"perspective", {{"yfov", 0.6}, {"znear", 0.1}, {"aspectRatio", 1.5}}}},
+                                {{"type", "orthographic"},
+                                 {"orthographic", {{"xmag", 1}, {"ymag", 1}, {"znear", 0.1}, {"zfar", 10}}}}});
+  std::vector<std::string> errors;
+  auto scene = loadGltf(write("spot.gltf", doc.dump()), errors);
+  ASSERT_TRUE(scene) << errors[0];
+  ASSERT_EQ(scene->lights.size(), 1u);
+  const LightDesc& l = scene->lights[0];
+  EXPECT_EQ(l.kind, LightDesc::Kind::Spot);
+  EXPECT_EQ(l.intensity, 7.0f);
+  EXPECT_EQ(l.emission.rgb, Vec3(1, 0, 0));
+  EXPECT_NEAR(glm::distance(l.position, Vec3(1, 2, 3)), 0.0f, 1e-6f);
+  EXPECT_NEAR(glm::dot(l.direction, Vec3(0, -1, 0)), 1.0f, 1e-6f);
+  EXPECT_FLOAT_EQ(l.innerConeRadians, 0.2f);
+  EXPECT_FLOAT_EQ(l.outerConeRadians, 0.4f);
+  ASSERT_EQ(scene->cameras.size(), 1u);  // the orthographic one is skipped
+  EXPECT_TRUE(anyContains(scene->warnings, "orthographic"));
+  const CameraDesc& c = scene->cameras[0];
+  EXPECT_NEAR(glm::dot(Vec3(c.cameraToWorld * Vec4(0, 0, -1, 0)), Vec3(0, -1, 0)), 1.0f, 1e-6f);
+  EXPECT_FLOAT_EQ(c.yFovRadians, 0.6f);
+  EXPECT_FLOAT_EQ(c.aspect, 1.5f);
+}
+
+TEST_F(GltfMutated, EveryByteTruncationOfAGlbFailsCleanly) {
   SKIP_WITHOUT_SHARED();
   std::ifstream in(kShared + "/Box/glTF-Binary/Box.glb", std::ios::binary);
   std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
