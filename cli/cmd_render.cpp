@@ -269,7 +269,7 @@ int runRender(const Args& args) {
               (unsigned long long)counters.nonFiniteSamples,
               counters.materialFailures ? (", " + std::to_string(counters.materialFailures) + " material evaluation failures").c_str() : "",
               written.c_str());
-  return 0;
+  return result.cancelled ? 130 : 0;  // 128 + SIGINT, as shells report an interrupted command
 }
 
 }  // namespace

@@ -37,8 +37,13 @@ WavelengthGroup sampleWavelengthGroup(float u, int count) {
   for (int j = 0; j < group.count; ++j) {
     float uj = u + float(j) / float(group.count);
     if (uj >= 1.0f) uj -= 1.0f;
-    group.lambdaNm[j] = sampleVisibleWavelength(uj);
-    group.pdfLambda[j] = visibleWavelengthPdf(group.lambdaNm[j]);
+    // With t = tanh(a (538 - lambda)) = A - (A + B) u, the density a / ((A + B) cosh^2) is
+    // a (1 - t^2) / (A + B): no cosh needed (this runs for every path).
+    const double t = kTanhLow - kTanhSpan * double(uj);
+    const double lambda = kCentreNm - 0.5 * std::log((1.0 + t) / (1.0 - t)) / kA;
+    group.lambdaNm[j] = std::clamp(float(lambda), kVisibleLambdaMinNm, std::nextafter(kVisibleLambdaMaxNm, 0.0f));
+    group.pdfLambda[j] = group.lambdaNm[j] == float(lambda) ? float(kA / kTanhSpan * (1.0 - t * t))
+                                                            : visibleWavelengthPdf(group.lambdaNm[j]);
   }
   return group;
 }

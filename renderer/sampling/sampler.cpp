@@ -9,6 +9,9 @@ namespace tex::sampling {
 Sampler::Sampler(SamplerKind kind, uint64_t seed) : kind_(kind), seed_(seed) {
   filmScrambleSeeds_[0] = sobolScrambleSeed(seed, 0, 0);
   filmScrambleSeeds_[1] = sobolScrambleSeed(seed, 1, 0);
+  auto seeds = std::make_shared<std::array<uint32_t, kSobolDimensions>>();
+  for (int d = 0; d < kSobolDimensions; ++d) (*seeds)[size_t(d)] = sobolScrambleSeed(seed, d, 0);
+  scrambleSeeds_ = std::move(seeds);
 }
 
 uint32_t Sampler::getBits(uint64_t index, int dimension) const {
@@ -16,7 +19,6 @@ uint32_t Sampler::getBits(uint64_t index, int dimension) const {
   return randomBits(seed_, index, dimension);
 }
 
-float Sampler::get(uint64_t index, int dimension) const { return bitsToUnitFloat(getBits(index, dimension)); }
 
 FilmPosition Sampler::filmPositionGeneral(uint64_t index) const {
   if (kind_ == SamplerKind::Sobol) {

@@ -5,7 +5,9 @@
 //   2     wavelength group rotation;
 //   3...  the kernel's own dimensions (kFirstKernelDimension).
 #pragma once
+#include <array>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -30,7 +32,11 @@ class Sampler {
   Sampler(SamplerKind kind, uint64_t seed);
 
   // Coordinate `dimension` of sample `index`, in [0,1).
-  float get(uint64_t index, int dimension) const;
+  float get(uint64_t index, int dimension) const {
+    if (kind_ == SamplerKind::Sobol && (index >> 32) == 0 && unsigned(dimension) < unsigned(kSobolDimensions))
+      return bitsToUnitFloat(owenScramble(sobolBits(uint32_t(index), dimension), (*scrambleSeeds_)[size_t(dimension)]));
+    return bitsToUnitFloat(getBits(index, dimension));
+  }
   // 32 fixed-point bits of the same coordinate (for exact stratification tests).
   uint32_t getBits(uint64_t index, int dimension) const;
   // Dimensions 0 and 1: where sample `index` lands on the film (inline: every kernel calls it
@@ -53,6 +59,8 @@ class Sampler {
   SamplerKind kind_;
   uint64_t seed_;
   uint32_t filmScrambleSeeds_[2];  // Sobol scramble seeds of dimensions 0, 1 for indices < 2^32
+  // Every dimension's scramble seed for indices < 2^32 (shared: samplers are copied freely).
+  std::shared_ptr<const std::array<uint32_t, kSobolDimensions>> scrambleSeeds_;
 };
 
 const char* samplerName(SamplerKind kind);
