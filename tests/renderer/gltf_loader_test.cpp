@@ -258,6 +258,9 @@ TEST(GltfLoader, DispersionTestHas25IorDispersionPairsWithDefaultIor) {
     pairs[{int(std::lround(m.ior * 100)), int(std::lround(m.dispersion * 10))}]++;
   }
   EXPECT_EQ(pairs.size(), 25u);
+  // Its vertex data is interleaved (byteStride 24 and 32): strided reads give unit normals.
+  for (const MeshPrimitive& p : scene.primitives)
+    for (const Vec3& n : p.normals) ASSERT_NEAR(glm::length(n), 1.0f, 1e-3f);
   for (int ior : {100, 133, 150, 176, 242})
     for (int dispersion : {0, 5, 10, 20, 50}) EXPECT_EQ(pairs.count({ior, dispersion}), 1u) << ior << " " << dispersion;
 }
@@ -479,6 +482,19 @@ TEST_F(GltfMutated, SparseAccessorOverridesPositions) {
   doc["accessors"][0]["sparse"]["indices"]["bufferView"] = 3;  // 5 indices < 4 vertices, but 5 values need 60 bytes of 48
   doc["accessors"][0]["sparse"]["count"] = 5;
   expectError(doc, "sparse");
+}
+
+TEST_F(GltfMutated, NormalizedByteTexcoords) {
+  json doc = base_;
+  // The index bytes 00 00 01 00 02 00 00 00 read as normalized ubyte VEC2.
+  doc["accessors"].push_back({{"bufferView", 3}, {"componentType", 5121}, {"normalized", true}, {"count", 4}, {"type", "VEC2"}});
+  doc["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_1"] = 4;
+  std::vector<std::string> errors;
+  auto scene = loadGltf(write("uv1.gltf", doc.dump()), errors);
+  ASSERT_TRUE(scene) << errors[0];
+  EXPECT_EQ(scene->primitives[0].uv1, (std::vector<Vec2>{{0, 0}, {1 / 255.0f, 0}, {2 / 255.0f, 0}, {0, 0}}));
+  doc["accessors"][4]["normalized"] = false;  // plain integers are not texture coordinates
+  expectError(doc, "componentType 5121");
 }
 
 TEST_F(GltfMutated, NonIndexedAndStripPrimitives) {
