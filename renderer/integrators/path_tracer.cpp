@@ -95,7 +95,7 @@ Spectrum PathTracer::radiance(uint64_t index, const Ray& primary, Wavelengths& l
       for (int li : scene_.environmentLights()) {
         const Spectrum Le = lights[size_t(li)]->Le(ray, lambda);
         if (Le.isBlack()) continue;
-        if (specularBounce) {
+        if (specularBounce || !settings_.nextEventEstimation) {
           L += beta * Le;
         } else {
           const float pdfLight = lightSampler.pmf(li) * lights[size_t(li)]->pdfLi(prevP, ray.direction, nullptr);
@@ -113,7 +113,7 @@ Spectrum PathTracer::radiance(uint64_t index, const Ray& primary, Wavelengths& l
 
     // Emission seen by this path: MIS against the light sampling of the previous vertex.
     if (!Le.isBlack() && (dot3(wo, hit.ng) > 0.0f || materials.emitsBothSides(material))) {
-      if (specularBounce) {
+      if (specularBounce || !settings_.nextEventEstimation) {
         L += beta * Le;
       } else {
         const int li = scene_.areaLightAt(hit);
@@ -129,7 +129,7 @@ Spectrum PathTracer::radiance(uint64_t index, const Ray& primary, Wavelengths& l
 
     const int dim = kFirstBounceDimension + depth * kDimensionsPerBounce;
     // Next-event estimation: one light chosen by power.
-    if (bsdf.hasNonSpecular() && lightSampler.size() > 0) {
+    if (settings_.nextEventEstimation && bsdf.hasNonSpecular() && lightSampler.size() > 0) {
       const auto choice = lightSampler.sample(sampler_.get(index, dim));
       if (choice) {
         const Light& light = *lights[size_t(choice->first)];

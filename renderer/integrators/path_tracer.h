@@ -21,6 +21,9 @@ struct PathTracerSettings {
   int maxDepth = 8;       // scattering events; 1 = direct lighting only
   int rouletteDepth = 3;  // bounces before Russian roulette starts
   int wavelengths = 4;    // 4 or 8
+  // false: BSDF sampling only (emission found by hitting it, weight 1) — the reference the MIS
+  // estimator is tested against; it cannot see point or directional lights.
+  bool nextEventEstimation = true;
 };
 
 class PathTracer {

@@ -60,7 +60,8 @@ struct Estimate {
 };
 
 // Mean over samples and wavelengths of the radiance estimate L(lambda) (= record value x pdf).
-Estimate estimateRadiance(const SceneDescription& scene, int maxDepth, int wavelengths, uint64_t samples) {
+Estimate estimateRadiance(const SceneDescription& scene, int maxDepth, int wavelengths, uint64_t samples,
+                          sampling::SamplerKind sampler = sampling::SamplerKind::Sobol) {
   RenderSceneOptions o;
   o.width = o.height = 64;
   o.wavelengths = wavelengths;
@@ -72,7 +73,7 @@ Estimate estimateRadiance(const SceneDescription& scene, int maxDepth, int wavel
   PathTracerSettings settings;
   settings.maxDepth = maxDepth;
   settings.wavelengths = wavelengths;
-  const PathTracer tracer(*rs, sampling::Sampler(sampling::SamplerKind::Sobol, 3), settings);
+  const PathTracer tracer(*rs, sampling::Sampler(sampler, 3), settings);
   double sum = 0, sum2 = 0;
   for (uint64_t i = 0; i < samples; ++i) {
     const SampleRecord r = tracer.record(i);
@@ -93,12 +94,13 @@ TEST(PathTracer, EmittingDiffuseCavityHasRadianceLeOverOneMinusAlbedo) {
   // Walls: 0.5 diffuse + 0.5 emission -> L = 0.5 / (1 - 0.5) = 1 (exact for any closed shape).
   const std::string file = writeTexModule(
       "cavity", "export fn wall(h: Hit) -> Material = mix_material(diffuse(spectrum(1.0)), emission(spectrum(1.0)), 0.5)\n");
-  for (int wavelengths : {4, 8}) {
-    const SceneDescription scene = oneObjectScene(makeSphere(Vec3(0.0f), 1.0f, 48, 24, true), file, "wall", Vec3(0.0f));
-    const Estimate e = estimateRadiance(scene, 60, wavelengths, 1 << 16);
-    EXPECT_NEAR(e.mean, 1.0, 4 * e.standardError + 1e-6) << wavelengths << " wavelengths";
-    EXPECT_EQ(e.nonFinite, 0u);
-  }
+  const SceneDescription scene = oneObjectScene(makeSphere(Vec3(0.0f), 1.0f, 48, 24, true), file, "wall", Vec3(0.0f));
+  for (sampling::SamplerKind sampler : {sampling::SamplerKind::Sobol, sampling::SamplerKind::Random})
+    for (int wavelengths : {4, 8}) {
+      const Estimate e = estimateRadiance(scene, 60, wavelengths, 1 << 16, sampler);
+      EXPECT_NEAR(e.mean, 1.0, 4 * e.standardError + 1e-6) << wavelengths << " wavelengths, " << samplerName(sampler);
+      EXPECT_EQ(e.nonFinite, 0u);
+    }
 }
 
 TEST(PathTracer, PointLightInsideDiffuseSphereGivesRadianceOne) {
@@ -111,11 +113,13 @@ TEST(PathTracer, PointLightInsideDiffuseSphereGivesRadianceOne) {
   light.emission.value = 1.0f;
   light.intensity = kPi;  // rho I / (pi R^2 (1 - rho)) = 1 for rho = 0.5, R = 1
   scene.lights.push_back(light);
-  const Estimate e = estimateRadiance(scene, 60, 4, 1 << 16);
   // The sphere is a 128 x 64 polyhedron: its facets are up to (pi/64)^2 / 2 = 0.12% closer to
   // the light than the sphere, hence the 0.3% allowance on top of the noise.
-  EXPECT_NEAR(e.mean, 1.0, 4 * e.standardError + 0.003);
-  EXPECT_EQ(e.nonFinite, 0u);
+  for (sampling::SamplerKind sampler : {sampling::SamplerKind::Sobol, sampling::SamplerKind::Random}) {
+    const Estimate e = estimateRadiance(scene, 60, 4, 1 << 16, sampler);
+    EXPECT_NEAR(e.mean, 1.0, 4 * e.standardError + 0.003) << samplerName(sampler);
+    EXPECT_EQ(e.nonFinite, 0u);
+  }
 }
 
 TEST(PathTracer, WhiteFurnaceForLosslessMaterials) {
