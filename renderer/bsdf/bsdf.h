@@ -35,6 +35,12 @@ enum class LobeKind : uint8_t {
   Lambertian,         // albedo = weight
   SmoothDielectric,   // eta = a (interior IOR over exterior, per wavelength); weight scales both R and T
   SmoothConductor,    // complex IOR eta + i k: eta = a, k = b; weight scales the Fresnel reflectance
+  // The materials issue's lobes (renderer/bsdf/microfacet*.cpp, glossy_lobe.cpp):
+  RoughConductor,     // GGX, alpha = roughness; eta = a, k = b
+  RoughDielectric,    // GGX reflection and transmission, alpha = roughness; eta = a
+  ThinDielectric,     // a thin slab (both interfaces, internal bounces summed); eta = a
+  GlossyReflection,   // the glossy model (docs/glossy-model.md): exponent n, reflectance = weight
+  GlossyDielectric,   // the glossy model around both the mirror and the refracted direction; eta = a
 };
 
 // One lobe with its weight. Kinds are native renderer code; materials select them through the
@@ -44,6 +50,8 @@ struct Lobe {
   bool etaVaries = false;  // SmoothDielectric: eta differs between the group's wavelengths
   Spectrum weight;         // multiplies the lobe's value (albedo of Lambertian)
   Spectrum a, b;           // kind-specific parameters (above)
+  float roughness = 0;     // GGX alpha (Rough*)
+  float exponent = 0;      // glossiness exponent n (Glossy*)
 };
 
 struct BsdfSample {

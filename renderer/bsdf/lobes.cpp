@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "renderer/bsdf/bsdf.h"
+#include "renderer/bsdf/glossy_lobe.h"
 #include "renderer/bsdf/bsdf_constants.h"
 #include "renderer/core/warp.h"
 
@@ -108,26 +109,42 @@ std::optional<BsdfSample> conductorSample(const Lobe& lobe, const Vec3& wo) {
 
 }  // namespace
 
-bool lobeIsSpecular(LobeKind kind) { return kind != LobeKind::Lambertian; }
+bool lobeIsSpecular(LobeKind kind) {
+  return kind == LobeKind::SmoothDielectric || kind == LobeKind::SmoothConductor || kind == LobeKind::ThinDielectric;
+}
 
-Spectrum lobeEval(const Lobe& lobe, const Vec3& wo, const Vec3& wi, TransportMode /*mode*/) {
+Spectrum lobeEval(const Lobe& lobe, const Vec3& wo, const Vec3& wi, TransportMode mode) {
   switch (lobe.kind) {
     case LobeKind::Lambertian:
       return lambertianEval(lobe, wo, wi);
     case LobeKind::SmoothDielectric:
     case LobeKind::SmoothConductor:
+    case LobeKind::ThinDielectric:
       return Spectrum();  // Dirac lobes: no density to evaluate
+    case LobeKind::GlossyReflection:
+    case LobeKind::GlossyDielectric:
+      return glossyLobeEval(lobe, wo, wi, mode);
+    case LobeKind::RoughConductor:
+    case LobeKind::RoughDielectric:
+      return Spectrum();  // GGX lobes: the materials issue
   }
   return Spectrum();
 }
 
-float lobePdf(const Lobe& lobe, const Vec3& wo, const Vec3& wi, TransportMode /*mode*/) {
+float lobePdf(const Lobe& lobe, const Vec3& wo, const Vec3& wi, TransportMode mode) {
   switch (lobe.kind) {
     case LobeKind::Lambertian:
       return lambertianPdf(wo, wi);
     case LobeKind::SmoothDielectric:
     case LobeKind::SmoothConductor:
+    case LobeKind::ThinDielectric:
       return 0.0f;
+    case LobeKind::GlossyReflection:
+    case LobeKind::GlossyDielectric:
+      return glossyLobePdf(lobe, wo, wi, mode);
+    case LobeKind::RoughConductor:
+    case LobeKind::RoughDielectric:
+      return 0.0f;  // GGX lobes: the materials issue
   }
   return 0.0f;
 }
@@ -140,6 +157,13 @@ std::optional<BsdfSample> lobeSample(const Lobe& lobe, const Vec3& wo, float uc,
       return dielectricSample(lobe, wo, uc, mode);
     case LobeKind::SmoothConductor:
       return conductorSample(lobe, wo);
+    case LobeKind::GlossyReflection:
+    case LobeKind::GlossyDielectric:
+      return glossyLobeSample(lobe, wo, uc, u2, mode);
+    case LobeKind::RoughConductor:
+    case LobeKind::RoughDielectric:
+    case LobeKind::ThinDielectric:
+      return std::nullopt;  // the materials issue
   }
   return std::nullopt;
 }
