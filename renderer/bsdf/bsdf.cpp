@@ -76,6 +76,19 @@ float Bsdf::pdf(const Vec3& woWorld, const Vec3& wiWorld, TransportMode mode) co
   return total > 0.0f ? pdfW / total : 0.0f;
 }
 
+float Bsdf::pdfForLane(const Vec3& woWorld, const Vec3& wiWorld, TransportMode mode, int lane) const {
+  const Vec3 wo = frame_.toLocal(woWorld), wi = frame_.toLocal(wiWorld);
+  const PairCosines c{wo.z, wi.z, dot3(woWorld, ng_), dot3(wiWorld, ng_)};
+  if (degenerate(c.woNs) || degenerate(c.woNg) || !sidesAgree(c)) return 0.0f;
+  float total = 0.0f, pdfW = 0.0f;
+  for (int i = 0; i < count_; ++i) {
+    const float w = selectionWeight(i);
+    total += w;
+    if (w > 0.0f && !lobeIsSpecular(lobes_[i].kind)) pdfW += w * lobePdfForLane(lobes_[i], wo, wi, mode, lane);
+  }
+  return total > 0.0f ? pdfW / total : 0.0f;
+}
+
 std::optional<BsdfSample> Bsdf::sample(const Vec3& woWorld, float uc, Vec2 u2, TransportMode mode) const {
   const Vec3 wo = frame_.toLocal(woWorld);
   const float woNg = dot3(woWorld, ng_);

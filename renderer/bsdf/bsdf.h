@@ -70,6 +70,10 @@ Spectrum lobeEval(const Lobe& lobe, const Vec3& wo, const Vec3& wi, TransportMod
 float lobePdf(const Lobe& lobe, const Vec3& wo, const Vec3& wi, TransportMode mode);
 std::optional<BsdfSample> lobeSample(const Lobe& lobe, const Vec3& wo, float uc, Vec2 u2, TransportMode mode);
 bool lobeIsSpecular(LobeKind kind);
+// The density lobeSample would have had for wi if lane `lane`'s parameters (its eta) had
+// chosen the direction instead of the hero's (lane 0): spectral MIS over the group needs it.
+// Equal to lobePdf for lobes that do not depend on the wavelength.
+float lobePdfForLane(const Lobe& lobe, const Vec3& wo, const Vec3& wi, TransportMode mode, int lane);
 
 // Fresnel reflectance of a dielectric interface for cosThetaI (relative to the side the light
 // arrives from; negative = from inside) and relative IOR eta = n_inside / n_outside.
@@ -104,6 +108,8 @@ class Bsdf {
   // f = 0 and pdf = 0, and sample() drops them, so pdf() is the density sample() really has.
   Spectrum eval(const Vec3& woWorld, const Vec3& wiWorld, TransportMode mode) const;
   float pdf(const Vec3& woWorld, const Vec3& wiWorld, TransportMode mode) const;
+  // pdf() as if lane `lane` had been the hero wavelength (lobePdfForLane per lobe).
+  float pdfForLane(const Vec3& woWorld, const Vec3& wiWorld, TransportMode mode, int lane) const;
   // Chooses a lobe with probability proportional to its selection weight (the mean of |weight|
   // over the group, computed as the sum over all 8 lanes since unused lanes are zero), samples
   // it, and returns the mixture's f and pdf for the chosen direction (for non-specular choices:

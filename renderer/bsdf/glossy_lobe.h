@@ -15,6 +15,9 @@ Spectrum glossyLobeEval(const Lobe& lobe, const Vec3& wo, const Vec3& wi, Transp
 float glossyLobePdf(const Lobe& lobe, const Vec3& wo, const Vec3& wi, TransportMode mode);
 std::optional<BsdfSample> glossyLobeSample(const Lobe& lobe, const Vec3& wo, float uc, Vec2 u2, TransportMode mode);
 
+// The density glossyLobeSample would have had for wi had lane `lane`'s eta chosen it.
+float glossyLobePdfForLane(const Lobe& lobe, const Vec3& wo, const Vec3& wi, TransportMode mode, int lane);
+
 // Directional albedo of the reflection lobe with unit weight at cos(theta_o) (for tests, docs
 // and energy bookkeeping of layers).
 float glossyReflectionAlbedo(float exponent, float cosThetaO);

@@ -149,6 +149,16 @@ float lobePdf(const Lobe& lobe, const Vec3& wo, const Vec3& wi, TransportMode mo
   return 0.0f;
 }
 
+float lobePdfForLane(const Lobe& lobe, const Vec3& wo, const Vec3& wi, TransportMode mode, int lane) {
+  if (!lobe.etaVaries || lane == 0) return lobePdf(lobe, wo, wi, mode);
+  switch (lobe.kind) {
+    case LobeKind::GlossyDielectric:
+      return glossyLobePdfForLane(lobe, wo, wi, mode, lane);
+    default:
+      return lobePdf(lobe, wo, wi, mode);  // (rough dielectric: the materials issue)
+  }
+}
+
 std::optional<BsdfSample> lobeSample(const Lobe& lobe, const Vec3& wo, float uc, Vec2 u2, TransportMode mode) {
   switch (lobe.kind) {
     case LobeKind::Lambertian:
