@@ -1,10 +1,12 @@
 // The lobe mixture at one shading point: world <-> shading frame, lobe selection, the
-// geometric-normal leak test and the adjoint shading-normal correction (Veach 1997, 5.3).
+// geometric-normal leak test, the adjoint shading-normal correction (Veach 1997, 5.3) and the
+// coat of a layer (layer.h).
 #include <algorithm>
 #include <cmath>
 
 #include "renderer/bsdf/bsdf.h"
 #include "renderer/bsdf/bsdf_constants.h"
+#include "renderer/bsdf/layer.h"
 
 namespace tex::render {
 namespace {
@@ -38,55 +40,93 @@ bool Bsdf::add(const Lobe& lobe) {
   return true;
 }
 
+bool Bsdf::setCoat(const Lobe& coat) {
+  if (hasCoat_ || (coat.kind != LobeKind::SmoothDielectric && coat.kind != LobeKind::RoughDielectric)) return false;
+  coat_ = coat;
+  hasCoat_ = true;
+  return true;
+}
+
 // Sum of |weight| over all 8 lanes. Lanes past the group's count are zero (spectrum.h), so this
 // is count * (mean over the group): proportional to the mean, without needing the count.
 float Bsdf::selectionWeight(int i) const {
+  const Lobe& l = i < count_ ? lobes_[i] : coat_;
   float sum = 0.0f;
-  for (int lane = 0; lane < kLanes; ++lane) sum += std::fabs(lobes_[i].weight.v[lane]);
+  for (int lane = 0; lane < kLanes; ++lane) sum += std::fabs(l.weight.v[lane]);
   return std::isfinite(sum) ? sum : 0.0f;
+}
+
+float Bsdf::componentWeights(const Vec3& wo, float* weights) const {
+  // With a coat, the share reflected at wo goes to the coat and the rest to the coated lobes.
+  const float coatShare = hasCoat_ ? coatSelectionReflectance(coat_, wo) : 0.0f;
+  float total = 0.0f;
+  for (int i = 0; i < count_; ++i) {
+    weights[i] = selectionWeight(i);
+    if (hasCoat_ && lobes_[i].underCoat) weights[i] *= 1.0f - coatShare;
+    total += weights[i];
+  }
+  weights[count_] = hasCoat_ ? selectionWeight(count_) * coatShare : 0.0f;
+  return total + weights[count_];
 }
 
 bool Bsdf::hasNonSpecular() const {
   for (int i = 0; i < count_; ++i)
     if (!lobeIsSpecular(lobes_[i].kind) && selectionWeight(i) > 0.0f) return true;
+  return hasCoat_ && !coatIsSpecular(coat_) && selectionWeight(count_) > 0.0f;
+}
+
+bool Bsdf::hasDispersiveDensity() const {
+  for (int i = 0; i < count_; ++i)
+    if (lobes_[i].etaVaries && !lobeIsSpecular(lobes_[i].kind)) return true;
   return false;
+}
+
+Spectrum Bsdf::localEval(const Vec3& wo, const Vec3& wi, TransportMode mode) const {
+  Spectrum f, coated;
+  for (int i = 0; i < count_; ++i) {
+    if (lobeIsSpecular(lobes_[i].kind)) continue;
+    if (hasCoat_ && lobes_[i].underCoat) {
+      coated += lobeEval(lobes_[i], wo, wi, mode);
+    } else {
+      f += lobeEval(lobes_[i], wo, wi, mode);
+    }
+  }
+  if (hasCoat_) {
+    if (!coated.isBlack()) f += coated * coatTransmittance(coat_, wo, wi);
+    f += coatEval(coat_, wo, wi);
+  }
+  return f;
+}
+
+float Bsdf::localPdf(const Vec3& wo, const Vec3& wi, TransportMode mode, int lane) const {
+  float weights[kMaxLobes + 1];
+  const float total = componentWeights(wo, weights);
+  if (!(total > 0.0f)) return 0.0f;
+  float pdfW = 0.0f;
+  for (int i = 0; i < count_; ++i)
+    if (weights[i] > 0.0f && !lobeIsSpecular(lobes_[i].kind))
+      pdfW += weights[i] * (lane == 0 ? lobePdf(lobes_[i], wo, wi, mode) : lobePdfForLane(lobes_[i], wo, wi, mode, lane));
+  if (weights[count_] > 0.0f) pdfW += weights[count_] * coatPdf(coat_, wo, wi);
+  return pdfW / total;
 }
 
 Spectrum Bsdf::eval(const Vec3& woWorld, const Vec3& wiWorld, TransportMode mode) const {
   const Vec3 wo = frame_.toLocal(woWorld), wi = frame_.toLocal(wiWorld);
   const PairCosines c{wo.z, wi.z, dot3(woWorld, ng_), dot3(wiWorld, ng_)};
   if (degenerate(c.woNs) || degenerate(c.woNg) || !sidesAgree(c)) return Spectrum();
-  Spectrum f;
-  for (int i = 0; i < count_; ++i)
-    if (!lobeIsSpecular(lobes_[i].kind)) f += lobeEval(lobes_[i], wo, wi, mode);
-  return f * shadingNormalCorrection(c, mode);
+  return localEval(wo, wi, mode) * shadingNormalCorrection(c, mode);
 }
 
 float Bsdf::pdf(const Vec3& woWorld, const Vec3& wiWorld, TransportMode mode) const {
-  const Vec3 wo = frame_.toLocal(woWorld), wi = frame_.toLocal(wiWorld);
-  const PairCosines c{wo.z, wi.z, dot3(woWorld, ng_), dot3(wiWorld, ng_)};
-  // Rejected directions have density 0, matching sample(), which drops them.
-  if (degenerate(c.woNs) || degenerate(c.woNg) || !sidesAgree(c)) return 0.0f;
-  float total = 0.0f, pdfW = 0.0f;
-  for (int i = 0; i < count_; ++i) {
-    const float w = selectionWeight(i);
-    total += w;
-    if (w > 0.0f && !lobeIsSpecular(lobes_[i].kind)) pdfW += w * lobePdf(lobes_[i], wo, wi, mode);
-  }
-  return total > 0.0f ? pdfW / total : 0.0f;
+  return pdfForLane(woWorld, wiWorld, mode, 0);
 }
 
 float Bsdf::pdfForLane(const Vec3& woWorld, const Vec3& wiWorld, TransportMode mode, int lane) const {
   const Vec3 wo = frame_.toLocal(woWorld), wi = frame_.toLocal(wiWorld);
   const PairCosines c{wo.z, wi.z, dot3(woWorld, ng_), dot3(wiWorld, ng_)};
+  // Rejected directions have density 0, matching sample(), which drops them.
   if (degenerate(c.woNs) || degenerate(c.woNg) || !sidesAgree(c)) return 0.0f;
-  float total = 0.0f, pdfW = 0.0f;
-  for (int i = 0; i < count_; ++i) {
-    const float w = selectionWeight(i);
-    total += w;
-    if (w > 0.0f && !lobeIsSpecular(lobes_[i].kind)) pdfW += w * lobePdfForLane(lobes_[i], wo, wi, mode, lane);
-  }
-  return total > 0.0f ? pdfW / total : 0.0f;
+  return localPdf(wo, wi, mode, lane);
 }
 
 std::optional<BsdfSample> Bsdf::sample(const Vec3& woWorld, float uc, Vec2 u2, TransportMode mode) const {
@@ -94,16 +134,16 @@ std::optional<BsdfSample> Bsdf::sample(const Vec3& woWorld, float uc, Vec2 u2, T
   const float woNg = dot3(woWorld, ng_);
   if (degenerate(wo.z) || degenerate(woNg)) return std::nullopt;
 
-  float weights[kMaxLobes];
-  float total = 0.0f;
-  for (int i = 0; i < count_; ++i) total += weights[i] = selectionWeight(i);
+  float weights[kMaxLobes + 1];
+  const float total = componentWeights(wo, weights);
   if (!(total > 0.0f)) return std::nullopt;
+  const int components = count_ + 1;  // the last one is the coat (weight 0 without one)
 
-  // Pick a lobe with uc and stretch uc's sub-interval back to [0,1) for the lobe's own choice.
+  // Pick a component with uc and stretch uc's sub-interval back to [0,1) for its own choice.
   const float target = uc * total;
   float cdfBefore = 0.0f;
   int chosen = -1, lastNonZero = -1;
-  for (int i = 0; i < count_; ++i) {
+  for (int i = 0; i < components; ++i) {
     if (weights[i] <= 0.0f) continue;
     lastNonZero = i;
     if (target < cdfBefore + weights[i]) {
@@ -119,7 +159,9 @@ std::optional<BsdfSample> Bsdf::sample(const Vec3& woWorld, float uc, Vec2 u2, T
   const float ucLobe = std::clamp((target - cdfBefore) / weights[chosen], 0.0f, kOneMinusEpsilon);
   const float selectionPdf = weights[chosen] / total;
 
-  std::optional<BsdfSample> s = lobeSample(lobes_[chosen], wo, ucLobe, u2, mode);
+  const bool coatChosen = chosen == count_;
+  std::optional<BsdfSample> s =
+      coatChosen ? coatSample(coat_, wo, u2) : lobeSample(lobes_[chosen], wo, ucLobe, u2, mode);
   if (!s) return std::nullopt;
   const Vec3 wi = s->wi;
   const Vec3 wiWorld = frame_.toWorld(wi);
@@ -128,19 +170,14 @@ std::optional<BsdfSample> Bsdf::sample(const Vec3& woWorld, float uc, Vec2 u2, T
 
   if (s->specular) {
     s->pdfW *= selectionPdf;  // the Dirac lobe's own f; the others have no mass on its direction
+    if (!coatChosen && hasCoat_ && lobes_[chosen].underCoat) s->f *= coatTransmittance(coat_, wo, wi);
   } else {
-    // The direction could have come from any non-specular lobe: the mixture's f and pdf.
-    Spectrum f;
-    float pdfW = 0.0f;
-    for (int i = 0; i < count_; ++i) {
-      if (weights[i] <= 0.0f || lobeIsSpecular(lobes_[i].kind)) continue;
-      f += lobeEval(lobes_[i], wo, wi, mode);
-      pdfW += weights[i] * lobePdf(lobes_[i], wo, wi, mode);
-    }
-    pdfW /= total;
-    if (!(pdfW > 0.0f)) return std::nullopt;
-    s->f = f;
-    s->pdfW = pdfW;
+    // The direction could have come from any non-specular component: the mixture's f and pdf.
+    s->f = localEval(wo, wi, mode);
+    s->pdfW = localPdf(wo, wi, mode, 0);
+    if (!(s->pdfW > 0.0f)) return std::nullopt;
+    // Every lane's density differs at this vertex when a lobe's does (bsdf.h, `dispersive`).
+    s->dispersive = s->dispersive || hasDispersiveDensity();
   }
   s->f *= shadingNormalCorrection(c, mode);
   s->wi = wiWorld;

@@ -52,6 +52,7 @@ struct Lobe {
   Spectrum a, b;           // kind-specific parameters (above)
   float roughness = 0;     // GGX alpha (Rough*)
   float exponent = 0;      // glossiness exponent n (Glossy*)
+  bool underCoat = false;  // a base lobe of a layer: attenuated by the Bsdf's coat (setCoat)
 };
 
 struct BsdfSample {
@@ -60,7 +61,10 @@ struct BsdfSample {
   float pdfW = 0;         // solid-angle density (or discrete probability for specular)
   bool specular = false;  // a Dirac event: skip NEE/MIS at this vertex
   bool transmission = false;
-  bool dispersive = false;  // direction chosen with the hero wavelength only (see above)
+  bool dispersive = false;  // direction chosen with the hero wavelength only (see above); for
+                            // non-specular samples: the density differs between lanes (a rough
+                            // or glossy lobe with etaVaries), f carries every lane's own value
+                            // and Bsdf::pdfForLane gives each lane's density
   float etaScale = 1;       // relative IOR crossed (for Russian roulette bookkeeping): 1 if reflected
 };
 
@@ -94,6 +98,18 @@ class Bsdf {
 
   // Adds a lobe (its weight already includes mix weights). Returns false when full.
   bool add(const Lobe& lobe);
+  // Layered coat (docs/layering.md; an energy-aware approximation, not a simulation of the
+  // layer): a SmoothDielectric or RoughDielectric interface (eta = a, alpha = roughness,
+  // weight scales its reflection) over the lobes added with `underCoat`. The coat contributes
+  // its reflection only; base lobes are scaled by (1 - F(cos_o)) (1 - F(cos_i)) / (1 - F_avg)
+  // per lane, evaluated at the unrefracted directions (a white Lambertian under a smooth coat
+  // then has albedo exactly 1; a rough coat loses what single-scattering GGX loses). Sampling
+  // picks the coat with share F_hero(cos_o) of its weight and the coated lobes with share
+  // 1 - F_hero(cos_o) of theirs. One coat per Bsdf: returns false for a second coat or
+  // another kind. Lobes flagged underCoat without a coat are not attenuated.
+  bool setCoat(const Lobe& coat);
+  bool hasCoat() const { return hasCoat_; }
+  const Lobe& coat() const { return coat_; }
   int lobeCount() const { return count_; }
   const Lobe& lobe(int i) const { return lobes_[i]; }
   bool empty() const { return count_ == 0; }
@@ -120,10 +136,19 @@ class Bsdf {
 
  private:
   float selectionWeight(int i) const;
+  // Selection weights for this wo of the lobes and, at index count_, of the coat; the total.
+  float componentWeights(const Vec3& wo, float* weights) const;
+  // Sum of the non-specular lobes' values (base lobes attenuated by the coat) and the coat's.
+  Spectrum localEval(const Vec3& wo, const Vec3& wi, TransportMode mode) const;
+  // Selection-weighted density of the non-specular components (lane: which eta is the hero).
+  float localPdf(const Vec3& wo, const Vec3& wi, TransportMode mode, int lane) const;
+  bool hasDispersiveDensity() const;
   Frame frame_;
   Vec3 ng_{0, 0, 1};
   Lobe lobes_[kMaxLobes];
   int count_ = 0;
+  Lobe coat_;
+  bool hasCoat_ = false;
 };
 
 }  // namespace tex::render

@@ -1,11 +1,12 @@
 // The native BSDF lobes in the local shading frame (z = shading normal): Lambertian, smooth
-// dielectric and smooth conductor. Dispatch is a switch on the kind (no virtual calls); the
+// dielectric and smooth conductor here; GGX and thin-slab lobes in microfacet.h's files. Dispatch is a switch on the kind (no virtual calls); the
 // specular lobes follow bsdf.h's Dirac convention (eval = pdf = 0, sample returns R / |cos|
 // and the discrete probability of the chosen event).
 #include <cmath>
 
 #include "renderer/bsdf/bsdf.h"
 #include "renderer/bsdf/glossy_lobe.h"
+#include "renderer/bsdf/microfacet.h"
 #include "renderer/bsdf/bsdf_constants.h"
 #include "renderer/core/warp.h"
 
@@ -125,8 +126,9 @@ Spectrum lobeEval(const Lobe& lobe, const Vec3& wo, const Vec3& wi, TransportMod
     case LobeKind::GlossyDielectric:
       return glossyLobeEval(lobe, wo, wi, mode);
     case LobeKind::RoughConductor:
+      return roughConductorEval(lobe, wo, wi);
     case LobeKind::RoughDielectric:
-      return Spectrum();  // GGX lobes: the materials issue
+      return roughDielectricEval(lobe, wo, wi, mode);
   }
   return Spectrum();
 }
@@ -143,8 +145,9 @@ float lobePdf(const Lobe& lobe, const Vec3& wo, const Vec3& wi, TransportMode mo
     case LobeKind::GlossyDielectric:
       return glossyLobePdf(lobe, wo, wi, mode);
     case LobeKind::RoughConductor:
+      return roughConductorPdf(lobe, wo, wi);
     case LobeKind::RoughDielectric:
-      return 0.0f;  // GGX lobes: the materials issue
+      return roughDielectricPdfForLane(lobe, wo, wi, 0);
   }
   return 0.0f;
 }
@@ -154,8 +157,10 @@ float lobePdfForLane(const Lobe& lobe, const Vec3& wo, const Vec3& wi, Transport
   switch (lobe.kind) {
     case LobeKind::GlossyDielectric:
       return glossyLobePdfForLane(lobe, wo, wi, mode, lane);
+    case LobeKind::RoughDielectric:
+      return roughDielectricPdfForLane(lobe, wo, wi, lane);
     default:
-      return lobePdf(lobe, wo, wi, mode);  // (rough dielectric: the materials issue)
+      return lobePdf(lobe, wo, wi, mode);
   }
 }
 
@@ -171,9 +176,11 @@ std::optional<BsdfSample> lobeSample(const Lobe& lobe, const Vec3& wo, float uc,
     case LobeKind::GlossyDielectric:
       return glossyLobeSample(lobe, wo, uc, u2, mode);
     case LobeKind::RoughConductor:
+      return roughConductorSample(lobe, wo, u2);
     case LobeKind::RoughDielectric:
+      return roughDielectricSample(lobe, wo, uc, u2, mode);
     case LobeKind::ThinDielectric:
-      return std::nullopt;  // the materials issue
+      return thinDielectricSample(lobe, wo, uc);
   }
   return std::nullopt;
 }

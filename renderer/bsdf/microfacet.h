@@ -1,0 +1,52 @@
+// GGX / Trowbridge-Reitz microfacet distribution (isotropic) and the lobes built on it:
+// rough conductor, rough dielectric (Walter et al. 2007, "Microfacet Models for Refraction
+// through Rough Surfaces"), plus the thin dielectric slab. Facts from pbrt-v4 section 9.6-9.7,
+// Heitz 2014 ("Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs") and
+// Heitz 2018 ("Sampling the GGX Distribution of Visible Normals"). Local frame, z = normal.
+#pragma once
+#include <optional>
+
+#include "renderer/bsdf/bsdf.h"
+
+namespace tex::render {
+
+// Below this alpha the lobe is nearly a mirror but still has a (very peaked) density.
+inline constexpr float kMinGgxAlpha = 1e-3f;
+float clampGgxAlpha(float alpha);  // NaN / tiny -> kMinGgxAlpha
+
+// Normal distribution D(m) for a unit m (0 below the horizon).
+float ggxD(const Vec3& m, float alpha);
+// Smith's Lambda(w) for GGX; the height-correlated masking-shadowing G = 1/(1+L(wo)+L(wi)).
+float ggxLambda(const Vec3& w, float alpha);
+inline float ggxG1(const Vec3& w, float alpha) { return 1.0f / (1.0f + ggxLambda(w, alpha)); }
+inline float ggxG(const Vec3& wo, const Vec3& wi, float alpha) {
+  return 1.0f / (1.0f + ggxLambda(wo, alpha) + ggxLambda(wi, alpha));
+}
+// Density of visible normals seen from w (either side; m on the upper side):
+// D_w(m) = G1(w) |w.m| D(m) / |cos w| (Heitz 2014, eq. 38).
+float ggxVisibleD(const Vec3& w, const Vec3& m, float alpha);
+// Samples m ~ D_w (m.z > 0; w below is treated as -w, so that w.m < 0 for it).
+Vec3 ggxSampleVisibleNormal(const Vec3& w, float alpha, Vec2 u);
+
+// ---- Lobe entry points (dispatched from lobes.cpp).
+Spectrum roughConductorEval(const Lobe& lobe, const Vec3& wo, const Vec3& wi);
+float roughConductorPdf(const Lobe& lobe, const Vec3& wo, const Vec3& wi);
+std::optional<BsdfSample> roughConductorSample(const Lobe& lobe, const Vec3& wo, Vec2 u2);
+
+Spectrum roughDielectricEval(const Lobe& lobe, const Vec3& wo, const Vec3& wi, TransportMode mode);
+// The sampler's density if lane `lane`'s eta had chosen the direction (lane 0 = lobePdf).
+float roughDielectricPdfForLane(const Lobe& lobe, const Vec3& wo, const Vec3& wi, int lane);
+std::optional<BsdfSample> roughDielectricSample(const Lobe& lobe, const Vec3& wo, float uc, Vec2 u2, TransportMode mode);
+
+// Reflectance of a thin slab (both interfaces, internal bounces summed, no absorption):
+// R' = R + T^2 R / (1 - R^2) with R the single-interface Fresnel reflectance (pbrt-v4 9.5.1).
+float thinDielectricReflectance(float cosThetaO, float eta);
+std::optional<BsdfSample> thinDielectricSample(const Lobe& lobe, const Vec3& wo, float uc);
+
+// GGX reflection of a dielectric interface only (the coat of a layer): f = w D G F / (4 cos cos),
+// sampled by visible normals (density D_wo(m) / (4 |wo.m|)); two-sided (wo below is mirrored).
+Spectrum ggxDielectricReflectionEval(const Lobe& lobe, const Vec3& wo, const Vec3& wi);
+float ggxDielectricReflectionPdf(const Lobe& lobe, const Vec3& wo, const Vec3& wi);
+std::optional<BsdfSample> ggxDielectricReflectionSample(const Lobe& lobe, const Vec3& wo, Vec2 u2);
+
+}  // namespace tex::render
