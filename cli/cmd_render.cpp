@@ -36,6 +36,8 @@ const char* kRenderUsage =
     "  --integrator NAME   path (default; the only one so far)\n"
     "  --max-depth N       scattering events per path (default 8)\n"
     "  --wavelengths N     wavelengths per path: 4 or 8 (default 4)\n"
+    "  --spectral-mode M   mis | terminate | single: at dispersion keep every wavelength with\n"
+    "                      spectral MIS (default), keep only the hero, or trace one per path\n"
     "  --sampler NAME      sobol | random (default sobol)\n"
     "  --filter NAME       box | tent | gaussian | mitchell (default box)\n"
     "  --camera N          which camera of the scene (default 0; none: frame the scene's bounds)\n"
@@ -64,6 +66,7 @@ struct RenderFlags {
   sampling::SamplerKind sampler = sampling::SamplerKind::Sobol;
   FilterKind filter = FilterKind::Box;
   bool noCache = false, quiet = false;
+  render::SpectralMode spectralMode = render::SpectralMode::Mis;
 };
 
 // Parses flags; returns 0 to go on, else the exit status.
@@ -100,6 +103,9 @@ int parseFlags(const Args& args, RenderFlags& f) {
     } else if (a == "--wavelengths") {
       if (!value() || (v != "4" && v != "8")) return usage("--wavelengths needs 4 or 8");
       f.wavelengths = std::stoi(v);
+    } else if (a == "--spectral-mode") {
+      if (!value() || !render::parseSpectralMode(v)) return usage("--spectral-mode needs mis, terminate or single");
+      f.spectralMode = *render::parseSpectralMode(v);
     } else if (a == "--sampler") {
       if (!value() || !sampling::parseSamplerKind(v)) return usage("--sampler needs sobol or random");
       f.sampler = *sampling::parseSamplerKind(v);
@@ -187,6 +193,7 @@ int runRender(const Args& args) {
   render::PathTracerSettings pts;
   pts.maxDepth = s.maxDepth;
   pts.wavelengths = s.wavelengths;
+  pts.spectralMode = f.spectralMode;
   const render::PathTracer tracer(*rs, sampler, pts);
 
   FilmSettings film;
@@ -249,6 +256,7 @@ int runRender(const Args& args) {
       {"tex.integrator", "path"},
       {"tex.maxDepth", std::to_string(s.maxDepth)},
       {"tex.wavelengths", std::to_string(s.wavelengths)},
+      {"tex.spectralMode", render::spectralModeName(f.spectralMode)},
       {"tex.filter", filterName(f.filter)},
       {"tex.nonFiniteSamples", std::to_string(counters.nonFiniteSamples)}};
   for (const std::string& output : f.outputs) {

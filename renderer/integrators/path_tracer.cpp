@@ -15,6 +15,13 @@ void terminateSecondaryWavelengths(Spectrum& beta, int count) {
   for (int i = 1; i < kLanes; ++i) beta.v[i] = 0.0f;
 }
 
+// A lobe whose density differs between the group's lanes (rough or glossy dispersive).
+bool hasDispersiveDensity(const Bsdf& bsdf) {
+  for (int i = 0; i < bsdf.lobeCount(); ++i)
+    if (bsdf.lobe(i).etaVaries && !lobeIsSpecular(bsdf.lobe(i).kind)) return true;
+  return false;
+}
+
 Ray spawnRay(const Vec3& p, const Vec3& ng, const Vec3& direction) {
   Ray r;
   r.origin = offsetRayOrigin(p, ng, direction);
@@ -41,6 +48,22 @@ Ray shadowRay(const Vec3& p, const Vec3& ng, const LightLiSample& ls) {
 }
 
 }  // namespace
+
+const char* spectralModeName(SpectralMode mode) {
+  switch (mode) {
+    case SpectralMode::Mis: return "mis";
+    case SpectralMode::Terminate: return "terminate";
+    case SpectralMode::Single: return "single";
+  }
+  return "?";
+}
+
+std::optional<SpectralMode> parseSpectralMode(const std::string& name) {
+  if (name == "mis") return SpectralMode::Mis;
+  if (name == "terminate") return SpectralMode::Terminate;
+  if (name == "single") return SpectralMode::Single;
+  return std::nullopt;
+}
 
 SampleRecord PathTracer::record(uint64_t index) const {
   PathCounters& counters = counters_.local();
@@ -80,13 +103,23 @@ Spectrum PathTracer::radiance(uint64_t index, const Ray& primary, Wavelengths& l
   const int n = lambda.count;
 
   Spectrum L;
-  Spectrum beta;
+  Spectrum beta;  // throughput divided by the hero's (lane 0's) sampling densities
   for (int i = 0; i < n; ++i) beta.v[i] = 1.0f;
   Ray ray = primary;
   bool specularBounce = true;  // the camera vertex counts as specular: emission seen directly
-  float prevPdfW = 0.0f;
+  float prevPdfW = 0.0f;       // the BSDF technique's density of the last direction (for MIS)
   Vec3 prevP = primary.origin;
   bool terminated = false;
+  if (settings_.spectralMode == SpectralMode::Single && n > 1) {
+    terminateSecondaryWavelengths(beta, n);
+    terminated = true;
+  }
+  // Spectral MIS (one-sample balance heuristic over which lane is the hero): pathPdfRatio[k] is
+  // the product over dispersive vertices of pdf_k / pdf_hero, and every contribution is
+  // multiplied by spectralWeight = n / sum_k pathPdfRatio[k] (the hero's pdf over the mean).
+  float pathPdfRatio[kLanes];
+  for (int k = 0; k < kLanes; ++k) pathPdfRatio[k] = 1.0f;
+  float spectralWeight = 1.0f;
 
   for (int depth = 0;; ++depth) {
     SurfaceHit hit;
@@ -96,10 +129,10 @@ Spectrum PathTracer::radiance(uint64_t index, const Ray& primary, Wavelengths& l
         const Spectrum Le = lights[size_t(li)]->Le(ray, lambda);
         if (Le.isBlack()) continue;
         if (specularBounce || !settings_.nextEventEstimation) {
-          L += beta * Le;
+          L += beta * Le * spectralWeight;
         } else {
           const float pdfLight = lightSampler.pmf(li) * lights[size_t(li)]->pdfLi(prevP, ray.direction, nullptr);
-          L += beta * Le * powerHeuristic(prevPdfW, pdfLight);
+          L += beta * Le * (spectralWeight * powerHeuristic(prevPdfW, pdfLight));
         }
       }
       break;
@@ -114,7 +147,7 @@ Spectrum PathTracer::radiance(uint64_t index, const Ray& primary, Wavelengths& l
     // Emission seen by this path: MIS against the light sampling of the previous vertex.
     if (!Le.isBlack() && (dot3(wo, hit.ng) > 0.0f || materials.emitsBothSides(material))) {
       if (specularBounce || !settings_.nextEventEstimation) {
-        L += beta * Le;
+        L += beta * Le * spectralWeight;
       } else {
         const int li = scene_.areaLightAt(hit);
         float pdfLight = 0.0f;
@@ -122,10 +155,21 @@ Spectrum PathTracer::radiance(uint64_t index, const Ray& primary, Wavelengths& l
           EmitterPoint ep{hit.p, hit.ng, hit.uv, hit.primitive};
           pdfLight = lightSampler.pmf(li) * lights[size_t(li)]->pdfLi(prevP, ray.direction, &ep);
         }
-        L += beta * Le * powerHeuristic(prevPdfW, pdfLight);
+        L += beta * Le * (spectralWeight * powerHeuristic(prevPdfW, pdfLight));
       }
     }
     if (depth >= settings_.maxDepth || bsdf.empty()) break;
+
+    // Whether this vertex's BSDF density differs between the group's lanes (a rough
+    // dispersive lobe) and the path still carries them all: then the BSDF technique's density
+    // for MIS against light sampling is the mean over the lanes.
+    const bool mixLanes = settings_.spectralMode == SpectralMode::Mis && !terminated && n > 1 && hasDispersiveDensity(bsdf);
+    const auto bsdfTechniquePdf = [&](const Vec3& wi, float heroPdfW) {
+      if (!mixLanes) return heroPdfW;
+      float sum = heroPdfW;
+      for (int k = 1; k < n; ++k) sum += bsdf.pdfForLane(wo, wi, TransportMode::Radiance, k);
+      return sum / float(n);
+    };
 
     const int dim = kFirstBounceDimension + depth * kDimensionsPerBounce;
     // Next-event estimation: one light chosen by power.
@@ -142,8 +186,9 @@ Spectrum PathTracer::radiance(uint64_t index, const Ray& primary, Wavelengths& l
             if (!geometry.occluded(shadowRay(hit.p, hit.ng, *ls))) {
               const float pdfLight = choice->second * ls->pdfW;
               const float weight =
-                  ls->delta ? 1.0f : powerHeuristic(pdfLight, bsdf.pdf(wo, ls->wi, TransportMode::Radiance));
-              L += beta * f * ls->L * (weight / pdfLight);
+                  ls->delta ? 1.0f
+                            : powerHeuristic(pdfLight, bsdfTechniquePdf(ls->wi, bsdf.pdf(wo, ls->wi, TransportMode::Radiance)));
+              L += beta * f * ls->L * (spectralWeight * weight / pdfLight);
             }
           }
         }
@@ -155,12 +200,23 @@ Spectrum PathTracer::radiance(uint64_t index, const Ray& primary, Wavelengths& l
     const std::optional<BsdfSample> bs = bsdf.sample(wo, sampler_.get(index, dim + 3), u, TransportMode::Radiance);
     if (!bs || !(bs->pdfW > 0.0f) || bs->f.isBlack()) break;
     beta *= bs->f * (absDot(bs->wi, hit.ns) / bs->pdfW);
+    prevPdfW = bs->pdfW;
     if (bs->dispersive && !terminated && n > 1) {
-      terminateSecondaryWavelengths(beta, n);
-      terminated = true;
+      if (settings_.spectralMode == SpectralMode::Mis && !bs->specular) {
+        float sum = 0.0f;
+        for (int k = 0; k < n; ++k) {
+          if (k > 0) pathPdfRatio[k] *= bsdf.pdfForLane(wo, bs->wi, TransportMode::Radiance, k) / bs->pdfW;
+          sum += pathPdfRatio[k];
+        }
+        spectralWeight = sum > 0.0f ? float(n) / sum : 0.0f;
+        prevPdfW = bsdfTechniquePdf(bs->wi, bs->pdfW);
+      } else {
+        // A Dirac dispersive event (or the terminate mode): only the hero's direction exists.
+        terminateSecondaryWavelengths(beta, n);
+        terminated = true;
+      }
     }
     specularBounce = bs->specular;
-    prevPdfW = bs->pdfW;
     prevP = hit.p;
     ray = spawnRay(hit.p, hit.ng, bs->wi);
 
@@ -169,7 +225,7 @@ Spectrum PathTracer::radiance(uint64_t index, const Ray& primary, Wavelengths& l
       break;
     }
     if (depth + 1 >= settings_.rouletteDepth) {
-      const float survive = std::min(1.0f, beta.maxValue());
+      const float survive = std::min(1.0f, beta.maxValue() * spectralWeight);
       if (sampler_.get(index, dim + 6) >= survive) break;
       beta = beta / survive;
     }

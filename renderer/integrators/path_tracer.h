@@ -3,11 +3,15 @@
 // (chosen by power) and multiple importance sampling (power heuristic) between light and BSDF
 // sampling (Veach 1997, chapter 9); Russian roulette on the path throughput after
 // `rouletteDepth` bounces; `maxDepth` bounces at most. A path carries a group of wavelengths;
-// a dispersive scattering event samples its direction with the hero wavelength and terminates
-// the others (the baseline of design contract 4; spectral MIS comes with the materials issue).
+// a dispersive scattering event samples its direction with the hero wavelength; the other
+// wavelengths are kept and weighted by multiple importance sampling over the group (the
+// one-sample balance heuristic over "which lane was the hero": each lane's estimate is divided
+// by the group's mean path pdf instead of the hero's), or dropped (SpectralMode).
 // Non-finite estimates are replaced by zero and counted.
 #pragma once
 #include <cstdint>
+#include <optional>
+#include <string>
 
 #include "renderer/film/sample_record.h"
 #include "renderer/integrators/path_counters.h"
@@ -17,6 +21,16 @@
 
 namespace tex::render {
 
+// What a path does with its wavelength group at wavelength-dependent (dispersive) events.
+enum class SpectralMode : uint8_t {
+  Mis,        // keep every wavelength: weight each by MIS over the group's pdfs (the thesis);
+              // a perfectly specular dispersive interface still keeps only the hero
+  Terminate,  // keep only the hero from the first dispersive event on (pbrt-v4)
+  Single,     // one wavelength per path from the start
+};
+const char* spectralModeName(SpectralMode mode);
+std::optional<SpectralMode> parseSpectralMode(const std::string& name);
+
 struct PathTracerSettings {
   int maxDepth = 8;       // scattering events; 1 = direct lighting only
   int rouletteDepth = 3;  // bounces before Russian roulette starts
@@ -24,6 +38,7 @@ struct PathTracerSettings {
   // false: BSDF sampling only (emission found by hitting it, weight 1) — the reference the MIS
   // estimator is tested against; it cannot see point or directional lights.
   bool nextEventEstimation = true;
+  SpectralMode spectralMode = SpectralMode::Mis;
 };
 
 class PathTracer {

@@ -88,7 +88,6 @@ std::unique_ptr<MaterialSystem> MaterialSystem::create(const SceneDescription& s
   point.ng = point.ns = Vec3(0, 0, 1);
   point.uv = Vec2(0.5f);
   for (size_t s = 0; s < slots; ++s) {
-    const int material = int(s);
     Bsdf bsdf(Frame::fromNormal(point.ns), point.ng);
     Spectrum e;
     bool sawEmission = false;
