@@ -10,7 +10,19 @@ constexpr int kMaxWavelengths = 8;
 
 // One closure node of a Material value (docs/abi.md, "Materials"). Kinds grow with the
 // renderer's lobe set; unknown kinds are never produced by an older compiler.
-enum class ClosureKind : uint32_t { Diffuse = 1, Emission = 2, Mix = 3, Dielectric = 4, Conductor = 5 };
+enum class ClosureKind : uint32_t {
+  Diffuse = 1,
+  Emission = 2,
+  Mix = 3,
+  Dielectric = 4,        // params: IOR; scalars[0]: GGX roughness alpha (0 = smooth)
+  Conductor = 5,         // params: eta, params2: k; scalars[0]: GGX roughness alpha
+  ThinDielectric = 6,    // params: IOR of a thin slab (no refraction offset)
+  Glossy = 7,            // params: reflectance; scalars[0]: exponent n of the glossy model
+  GlossyDielectric = 8,  // params: IOR; scalars[0]: exponent n
+  Layer = 9,             // a: coat, b: base
+  Scale = 10,            // a: child, params: weight
+  Add = 11,              // a + b
+};
 enum class ClosureParam : uint32_t { None = 0, Color = 1, Spectrum = 2 };
 
 // ClosureNode::flags bit 0: the node's parameters depend on the wavelength (decided statically
@@ -21,17 +33,18 @@ constexpr uint32_t kClosureVariesWithWavelength = 1u << 0;
 struct ClosureNode {
   ClosureKind kind;
   ClosureParam paramKind;  // how `params` is to be read
-  int32_t a, b;            // Mix: child node indices
+  int32_t a, b;            // Mix, Layer, Add: child node indices; Scale: a; -1 when unused
   float weight;            // Mix: weight of b
   float params[kMaxWavelengths];   // Color: 3 floats; Spectrum: one per wavelength
   // Appended fields (older kinds leave them zero):
   float params2[kMaxWavelengths];  // Conductor: k (params holds eta)
   ClosureParam param2Kind;         // how `params2` is to be read
   uint32_t flags;                  // kClosureVariesWithWavelength
+  float scalars[4];                // per-kind scalars (roughness, exponent); unused ones are 0
 };
 static_assert(offsetof(ClosureNode, params) == 20 && offsetof(ClosureNode, params2) == 52 &&
                   offsetof(ClosureNode, param2Kind) == 84 && offsetof(ClosureNode, flags) == 88 &&
-                  sizeof(ClosureNode) == 92,
+                  offsetof(ClosureNode, scalars) == 92 && sizeof(ClosureNode) == 108,
               "ClosureNode layout is part of the ABI (docs/abi.md)");
 
 // A bump arena the compiled code appends closure nodes to; a Material value is an index.

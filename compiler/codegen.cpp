@@ -577,40 +577,47 @@ class Codegen {
       }
       case Prim::MatDiffuse:
       case Prim::MatEmission:
+      case Prim::MatMix:
       case Prim::MatDielectric:
-      case Prim::MatConductor: return genMaterialLeaf(n, a);
-      case Prim::MatMix: {
-        llvm::FunctionCallee mix = module_->getOrInsertFunction(
-            "tex_rt_closure_mix", llvm::FunctionType::get(i32_, {ptrTy_, i32_, i32_, f32_}, false));
-        return b_.CreateCall(mix, {ctx_, a[0], a[1], a[2]});
-      }
+      case Prim::MatConductor:
+      case Prim::MatThinDielectric:
+      case Prim::MatGlossy:
+      case Prim::MatGlossyDielectric:
+      case Prim::MatLayer:
+      case Prim::MatScale:
+      case Prim::MatAdd: return genMaterialNode(n, a);
     }
     return llvm::PoisonValue::get(lower(n->type));
   }
 
-  // A material leaf: its parameter vectors go through stack buffers to tex_rt_closure_leaf.
-  llvm::Value* genMaterialLeaf(const Node* n, const std::vector<llvm::Value*>& a) {
-    auto paramKind = [](const Type* t) { return uint32_t(t->kind == TypeKind::Color ? ClosureParam::Color : ClosureParam::Spectrum); };
-    auto buffer = [&](size_t i) -> llvm::Value* {
-      if (i >= a.size()) return llvm::ConstantPointerNull::get(llvm::PointerType::get(context_, 0));
-      llvm::AllocaInst* to = entryAlloca(llvm::ArrayType::get(f32_, kMaxWavelengths));
-      for (int k = 0; k < lanes(n->args[i]->type); ++k)
-        b_.CreateStore(b_.CreateExtractElement(a[i], uint64_t(k)), b_.CreateConstInBoundsGEP2_32(to->getAllocatedType(), to, 0, unsigned(k)));
-      return to;
+  // A material node: filled in a zeroed ClosureNode on the stack (operands in the order of
+  // lang::ir::MaterialShape), then appended to the arena by tex_rt_closure_append.
+  llvm::Value* genMaterialNode(const Node* n, const std::vector<llvm::Value*>& a) {
+    const lang::ir::MaterialShape& shape = *lang::ir::materialShape(n->prim);
+    llvm::AllocaInst* node = entryAlloca(llvm::ArrayType::get(i32_, sizeof(ClosureNode) / 4));
+    b_.CreateMemSet(node, b_.getInt8(0), uint64_t(sizeof(ClosureNode)), llvm::MaybeAlign(4));
+    auto at = [&](size_t byteOffset) { return b_.CreateConstInBoundsGEP1_32(i32_, node, unsigned(byteOffset / 4)); };
+    b_.CreateStore(b_.getInt32(shape.kind), at(offsetof(ClosureNode, kind)));
+    size_t operand = 0;
+    b_.CreateStore(shape.children > 0 ? a[operand++] : b_.getInt32(uint32_t(-1)), at(offsetof(ClosureNode, a)));
+    b_.CreateStore(shape.children > 1 ? a[operand++] : b_.getInt32(uint32_t(-1)), at(offsetof(ClosureNode, b)));
+    auto vectorParam = [&](size_t kindOffset, size_t valuesOffset) {
+      const Type* t = n->args[operand]->type;
+      ClosureParam kind = t->kind == TypeKind::Color ? ClosureParam::Color : ClosureParam::Spectrum;
+      b_.CreateStore(b_.getInt32(uint32_t(kind)), at(kindOffset));
+      for (int k = 0; k < lanes(t); ++k)
+        b_.CreateStore(b_.CreateExtractElement(a[operand], uint64_t(k)), at(valuesOffset + 4 * size_t(k)));
+      ++operand;
     };
-    ClosureKind kind = n->prim == Prim::MatDiffuse    ? ClosureKind::Diffuse
-                       : n->prim == Prim::MatEmission ? ClosureKind::Emission
-                       : n->prim == Prim::MatDielectric ? ClosureKind::Dielectric
-                                                        : ClosureKind::Conductor;
-    bool two = a.size() > 1;
-    uint32_t flags = dependence_.flags(dependenceContext_, n);
-    llvm::FunctionCallee leaf = module_->getOrInsertFunction(
-        "tex_rt_closure_leaf",
-        llvm::FunctionType::get(i32_, {ptrTy_, i32_, i32_, i32_, ptrTy_, i32_, i32_, ptrTy_, i32_}, false));
-    return b_.CreateCall(leaf, {ctx_, b_.getInt32(uint32_t(kind)), b_.getInt32(flags), b_.getInt32(paramKind(n->args[0]->type)),
-                                buffer(0), b_.getInt32(uint32_t(lanes(n->args[0]->type))),
-                                b_.getInt32(two ? paramKind(n->args[1]->type) : 0u), buffer(1),
-                                b_.getInt32(two ? uint32_t(lanes(n->args[1]->type)) : 0u)});
+    if (shape.params > 0) vectorParam(offsetof(ClosureNode, paramKind), offsetof(ClosureNode, params));
+    if (shape.params > 1) vectorParam(offsetof(ClosureNode, param2Kind), offsetof(ClosureNode, params2));
+    for (int i = 0; i < shape.scalars; ++i)
+      b_.CreateStore(a[operand++], at(offsetof(ClosureNode, scalars) + 4 * size_t(i)));
+    if (shape.weight) b_.CreateStore(a[operand++], at(offsetof(ClosureNode, weight)));
+    if (shape.params > 0) b_.CreateStore(b_.getInt32(dependence_.flags(dependenceContext_, n)), at(offsetof(ClosureNode, flags)));
+    llvm::FunctionCallee append = module_->getOrInsertFunction(
+        "tex_rt_closure_append", llvm::FunctionType::get(i32_, {ptrTy_, ptrTy_}, false));
+    return b_.CreateCall(append, {ctx_, node});
   }
 
   llvm::AllocaInst* entryAlloca(llvm::Type* type) {

@@ -29,10 +29,8 @@ std::unique_ptr<llvm::Module> generateModule(llvm::LLVMContext& context, const l
                                              std::string& error);
 
 // The names of the runtime functions compiled code calls (bound as absolute symbols).
-// A material leaf: kind, flags, then up to two parameter vectors (params2 may be null).
-extern "C" int32_t tex_rt_closure_leaf(const void* ctx, uint32_t kind, uint32_t flags, uint32_t paramKind,
-                                       const float* params, int32_t count, uint32_t param2Kind, const float* params2,
-                                       int32_t count2);
-extern "C" int32_t tex_rt_closure_mix(const void* ctx, int32_t a, int32_t b, float weight);
+// Appends a copy of `node` (a ClosureNode) to ctx->arena; returns its index, or -1 when there
+// is no arena or it is full (then overflow is set).
+extern "C" int32_t tex_rt_closure_append(const void* ctx, const void* node);
 
 }  // namespace tex::compiler

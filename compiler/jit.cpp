@@ -33,7 +33,7 @@ namespace tex::compiler {
 namespace {
 
 // Bump on every change to code generation: it is part of every cache key.
-constexpr const char* kCompilerVersion = "tex-compiler-10";
+constexpr const char* kCompilerVersion = "tex-compiler-11";
 
 std::string errorText(llvm::Error error) { return llvm::toString(std::move(error)); }
 
@@ -87,10 +87,8 @@ struct Engine {
     main.addGenerator(std::move(*process));
     llvm::orc::SymbolMap runtime;
     auto& es = jit->getExecutionSession();
-    runtime[es.intern("tex_rt_closure_leaf")] = {llvm::orc::ExecutorAddr::fromPtr(&tex_rt_closure_leaf),
-                                                 llvm::JITSymbolFlags::Exported | llvm::JITSymbolFlags::Callable};
-    runtime[es.intern("tex_rt_closure_mix")] = {llvm::orc::ExecutorAddr::fromPtr(&tex_rt_closure_mix),
-                                                llvm::JITSymbolFlags::Exported | llvm::JITSymbolFlags::Callable};
+    runtime[es.intern("tex_rt_closure_append")] = {llvm::orc::ExecutorAddr::fromPtr(&tex_rt_closure_append),
+                                                   llvm::JITSymbolFlags::Exported | llvm::JITSymbolFlags::Callable};
     if (auto err = main.define(llvm::orc::absoluteSymbols(std::move(runtime)))) error = errorText(std::move(err));
   }
 };

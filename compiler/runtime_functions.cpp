@@ -18,32 +18,10 @@ static int32_t appendNode(const ShadingContext* ctx, const ClosureNode& node) {
   return arena->count++;
 }
 
-extern "C" int32_t tex_rt_closure_leaf(const void* rawCtx, uint32_t kind, uint32_t flags, uint32_t paramKind,
-                                       const float* params, int32_t count, uint32_t param2Kind, const float* params2,
-                                       int32_t count2) {
-  ClosureNode node{};
-  node.kind = ClosureKind(kind);
-  node.flags = flags;
-  node.paramKind = ClosureParam(paramKind);
-  node.param2Kind = ClosureParam(param2Kind);
-  node.a = node.b = -1;
-  auto copy = [](float* to, const float* from, int32_t n) {
-    if (n > kMaxWavelengths) n = kMaxWavelengths;
-    if (from && n > 0) std::memcpy(to, from, sizeof(float) * size_t(n));
-  };
-  copy(node.params, params, count);
-  copy(node.params2, params2, count2);
-  return appendNode(static_cast<const ShadingContext*>(rawCtx), node);
-}
-
-extern "C" int32_t tex_rt_closure_mix(const void* rawCtx, int32_t a, int32_t b, float weight) {
-  ClosureNode node{};
-  node.kind = ClosureKind::Mix;
-  node.paramKind = ClosureParam::None;
-  node.a = a;
-  node.b = b;
-  node.weight = weight;
-  return appendNode(static_cast<const ShadingContext*>(rawCtx), node);
+extern "C" int32_t tex_rt_closure_append(const void* rawCtx, const void* node) {
+  ClosureNode copy;
+  std::memcpy(&copy, node, sizeof copy);  // the caller's buffer is a word array, not a ClosureNode
+  return appendNode(static_cast<const ShadingContext*>(rawCtx), copy);
 }
 
 }  // namespace tex::compiler

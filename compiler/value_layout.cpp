@@ -2,7 +2,23 @@
 
 #include <cstring>
 
+#include "lang/core_ir.h"
+
 namespace tex::compiler {
+
+// The interpreter's material kinds are the ABI's closure kinds.
+static_assert(uint32_t(lang::MaterialNode::Kind::Diffuse) == uint32_t(ClosureKind::Diffuse) &&
+                  uint32_t(lang::MaterialNode::Kind::Emission) == uint32_t(ClosureKind::Emission) &&
+                  uint32_t(lang::MaterialNode::Kind::Mix) == uint32_t(ClosureKind::Mix) &&
+                  uint32_t(lang::MaterialNode::Kind::Dielectric) == uint32_t(ClosureKind::Dielectric) &&
+                  uint32_t(lang::MaterialNode::Kind::Conductor) == uint32_t(ClosureKind::Conductor) &&
+                  uint32_t(lang::MaterialNode::Kind::ThinDielectric) == uint32_t(ClosureKind::ThinDielectric) &&
+                  uint32_t(lang::MaterialNode::Kind::Glossy) == uint32_t(ClosureKind::Glossy) &&
+                  uint32_t(lang::MaterialNode::Kind::GlossyDielectric) == uint32_t(ClosureKind::GlossyDielectric) &&
+                  uint32_t(lang::MaterialNode::Kind::Layer) == uint32_t(ClosureKind::Layer) &&
+                  uint32_t(lang::MaterialNode::Kind::Scale) == uint32_t(ClosureKind::Scale) &&
+                  uint32_t(lang::MaterialNode::Kind::Add) == uint32_t(ClosureKind::Add),
+              "MaterialNode::Kind follows ClosureKind");
 
 using lang::Type;
 using lang::TypeKind;
@@ -33,29 +49,16 @@ std::shared_ptr<const lang::MaterialNode> materialFromArena(const ClosureArena* 
     int n = kind == ClosureParam::Color ? 3 : wavelengths;
     for (int i = 0; i < n; ++i) value.f[i] = from[i];
   };
+  const lang::ir::MaterialShape* shape = lang::ir::materialShapeOfKind(uint32_t(node.kind));
+  if (!shape) return nullptr;  // a kind this compiler never produces
+  m->kind = lang::MaterialNode::Kind(shape->kind);
   m->flags = node.flags;
-  switch (node.kind) {
-    case ClosureKind::Diffuse:
-    case ClosureKind::Emission:
-    case ClosureKind::Dielectric:
-      m->kind = node.kind == ClosureKind::Diffuse    ? lang::MaterialNode::Kind::Diffuse
-                : node.kind == ClosureKind::Emission ? lang::MaterialNode::Kind::Emission
-                                                     : lang::MaterialNode::Kind::Dielectric;
-      param(node.paramKind, node.params, m->paramType, m->param);
-      break;
-    case ClosureKind::Conductor:
-      m->kind = lang::MaterialNode::Kind::Conductor;
-      param(node.paramKind, node.params, m->paramType, m->param);
-      param(node.param2Kind, node.params2, m->param2Type, m->param2);
-      break;
-    case ClosureKind::Mix:
-      m->kind = lang::MaterialNode::Kind::Mix;
-      m->a = materialFromArena(arena, node.a, wavelengths, depth + 1);
-      m->b = materialFromArena(arena, node.b, wavelengths, depth + 1);
-      m->weight = node.weight;
-      break;
-    default: return nullptr;  // a kind this compiler never produces
-  }
+  if (shape->children > 0) m->a = materialFromArena(arena, node.a, wavelengths, depth + 1);
+  if (shape->children > 1) m->b = materialFromArena(arena, node.b, wavelengths, depth + 1);
+  if (shape->params > 0) param(node.paramKind, node.params, m->paramType, m->param);
+  if (shape->params > 1) param(node.param2Kind, node.params2, m->param2Type, m->param2);
+  for (int i = 0; i < shape->scalars; ++i) m->scalars[i] = node.scalars[i];
+  if (shape->weight) m->weight = node.weight;
   return m;
 }
 

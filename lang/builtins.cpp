@@ -30,14 +30,25 @@ const std::set<std::string>& otherBuiltins() {
       "abs", "fract", "min", "max", "clamp", "pow", "atan2", "mod", "mix", "step", "smoothstep",
       "dot", "length", "distance", "normalize", "cross", "float", "int", "is_nan", "is_inf",
       "vec2", "vec3", "vec4", "rgb", "color", "luminance", "spectrum", "fold", "diffuse",
-      "emission", "mix_material", "dielectric", "conductor"};
+      "emission", "mix_material", "dielectric", "conductor", "thin_dielectric", "glossy", "glossy_dielectric",
+      "layer", "scale_material", "add_material"};
   return names;
 }
 
-// Builtins whose parameters may also be given by name (`dielectric(ior: 1.5)`).
-const std::map<std::string, std::vector<std::string>>& namedBuiltinParams() {
-  static const std::map<std::string, std::vector<std::string>> table = {{"dielectric", {"ior"}},
-                                                                         {"conductor", {"eta", "k"}}};
+// Builtins whose parameters may also be given by name (`dielectric(ior: 1.5)`), with the
+// defaults of the optional ones (which may be left out also when arguments are positional).
+const std::map<std::string, std::vector<BuiltinParam>>& namedBuiltinParams() {
+  static const BuiltinParam roughness{"roughness", true, 0.0f};
+  static const std::map<std::string, std::vector<BuiltinParam>> table = {
+      {"dielectric", {{"ior"}, roughness}},
+      {"conductor", {{"eta"}, {"k"}, roughness}},
+      {"thin_dielectric", {{"ior"}}},
+      {"glossy", {{"reflectance"}, {"n"}}},
+      {"glossy_dielectric", {{"ior"}, {"n"}}},
+      {"layer", {{"coat"}, {"base"}}},
+      {"scale_material", {{"m"}, {"w"}}},
+      {"add_material", {{"a"}, {"b"}}},
+      {"mix_material", {{"a"}, {"b"}, {"t"}}}};
   return table;
 }
 
@@ -59,10 +70,11 @@ Node* Builder::builtinConstant(const std::string& name, Span span) {
   return prim(Prim::Wavelengths, types.spectrum(), {}, span);  // lambda_nm
 }
 
-// Puts named arguments in parameter order (positional ones come first: the parser checks it).
-// Returns false after reporting E0406 (unknown name) or E0407 (repeated or missing).
-bool Builder::orderBuiltinArgs(const std::string& name, const std::vector<std::string>& params,
-                               std::vector<TypedArg>& args, Span calleeSpan) {
+// Puts named arguments in parameter order (positional ones come first: the parser checks it)
+// and fills in the defaults of optional parameters left out. Returns false after reporting
+// E0406 (unknown name) or E0407 (repeated or missing).
+bool Builder::orderBuiltinArgs(const std::string& name, const std::vector<BuiltinParam>& params,
+                               std::vector<TypedArg>& args, Span calleeSpan, Span callSpan) {
   std::vector<const TypedArg*> slots(std::max(params.size(), args.size()), nullptr);
   for (size_t i = 0; i < args.size(); ++i) {
     const TypedArg& a = args[i];
@@ -70,7 +82,8 @@ bool Builder::orderBuiltinArgs(const std::string& name, const std::vector<std::s
       slots[i] = &a;
       continue;
     }
-    size_t at = size_t(std::find(params.begin(), params.end(), a.name) - params.begin());
+    size_t at = size_t(std::find_if(params.begin(), params.end(), [&](const BuiltinParam& p) { return p.name == a.name; }) -
+                       params.begin());
     if (at == params.size()) {
       error("E0406", a.nameSpan, "builtin '" + name + "' has no parameter named '" + a.name + "'");
       return false;
@@ -84,7 +97,11 @@ bool Builder::orderBuiltinArgs(const std::string& name, const std::vector<std::s
   std::vector<TypedArg> ordered;
   for (size_t i = 0; i < slots.size(); ++i) {
     if (!slots[i]) {
-      error("E0407", calleeSpan, "missing argument for parameter '" + params[i] + "' of '" + name + "'");
+      if (i < params.size() && params[i].optional) {
+        ordered.push_back(TypedArg{"", callSpan, callSpan, constFloat(params[i].value, callSpan)});
+        continue;
+      }
+      error("E0407", calleeSpan, "missing argument for parameter '" + params[i].name + "' of '" + name + "'");
       return false;
     }
     ordered.push_back(*slots[i]);
@@ -97,7 +114,12 @@ bool Builder::orderBuiltinArgs(const std::string& name, const std::vector<std::s
 Node* Builder::builtinCall(const std::string& name, std::vector<TypedArg> args, Span calleeSpan, Span callSpan) {
   if (auto it = namedBuiltinParams().find(name); it != namedBuiltinParams().end()) {
     bool anyNamed = std::any_of(args.begin(), args.end(), [](const TypedArg& a) { return !a.name.empty(); });
-    if (anyNamed && !orderBuiltinArgs(name, it->second, args, calleeSpan)) return errorNode(callSpan);
+    // Positional calls that leave out only optional parameters get their defaults too; other
+    // arities are left to the overload check below (E0410).
+    size_t required = size_t(std::count_if(it->second.begin(), it->second.end(), [](const BuiltinParam& p) { return !p.optional; }));
+    bool fillDefaults = !anyNamed && args.size() >= required && args.size() < it->second.size();
+    if ((anyNamed || fillDefaults) && !orderBuiltinArgs(name, it->second, args, calleeSpan, callSpan))
+      return errorNode(callSpan);
   }
   for (auto& a : args) {
     if (a.node->type->isError()) return errorNode(callSpan);
@@ -285,44 +307,78 @@ Node* Builder::builtinCall(const std::string& name, std::vector<TypedArg> args, 
     if (!arity(1) || (kind(0) != TypeKind::Int && kind(0) != TypeKind::Float)) return noOverload("a Float");
     return splatTo(args[0].node, types.spectrum(), callSpan);
   }
+  // Material operands: a Float (or Int) is a constant spectrum where a Color or Spectrum is
+  // expected; null when the argument does not fit.
+  auto scalar = [&](size_t i) -> Node* {
+    return kind(i) == TypeKind::Int || kind(i) == TypeKind::Float ? toFloat(args[i].node, callSpan) : nullptr;
+  };
+  auto spectrumArg = [&](size_t i) -> Node* {
+    if (kind(i) == TypeKind::Spectrum) return args[i].node;
+    Node* x = scalar(i);
+    return x ? splatTo(x, types.spectrum(), callSpan) : nullptr;
+  };
+  auto colorOrSpectrumArg = [&](size_t i) -> Node* {
+    return kind(i) == TypeKind::Color ? args[i].node : spectrumArg(i);
+  };
+  auto materialArg = [&](size_t i) -> Node* { return kind(i) == TypeKind::Material ? args[i].node : nullptr; };
+  auto material = [&](Prim p, std::vector<Node*> operands, const char* expected) -> Node* {
+    for (Node* x : operands)
+      if (!x) return noOverload(expected);
+    return prim(p, types.material(), std::move(operands), callSpan);
+  };
   if (name == "diffuse" || name == "emission") {
     if (!arity(1)) return noOverload("a Color or Spectrum");
-    Node* x = args[0].node;
-    if (kind(0) == TypeKind::Int || kind(0) == TypeKind::Float) x = splatTo(x, types.spectrum(), callSpan);
-    if (x->type->kind != TypeKind::Color && x->type->kind != TypeKind::Spectrum) return noOverload("a Color or Spectrum");
-    return prim(name == "diffuse" ? Prim::MatDiffuse : Prim::MatEmission, types.material(), {x}, callSpan);
+    return material(name == "diffuse" ? Prim::MatDiffuse : Prim::MatEmission, {colorOrSpectrumArg(0)}, "a Color or Spectrum");
   }
   if (name == "dielectric") {
     // The interior's IOR relative to the outside; a Float is a constant spectrum.
-    if (!arity(1)) return noOverload("an IOR: a Float or Spectrum");
-    Node* ior = args[0].node;
-    if (kind(0) == TypeKind::Int || kind(0) == TypeKind::Float) ior = splatTo(ior, types.spectrum(), callSpan);
-    if (ior->type->kind != TypeKind::Spectrum) return noOverload("an IOR: a Float or Spectrum");
-    return prim(Prim::MatDielectric, types.material(), {ior}, callSpan);
+    const char* expected = "(ior, roughness = 0.0): an IOR Float or Spectrum and a Float";
+    if (!arity(2)) return noOverload(expected);
+    return material(Prim::MatDielectric, {spectrumArg(0), scalar(1)}, expected);
   }
   if (name == "conductor") {
     // eta and k each a Color or Spectrum; a Float takes the other's type if that is a Color,
     // else it is a constant spectrum.
-    const char* expected = "(eta, k), each a Color, Spectrum or Float";
-    if (!arity(2)) return noOverload(expected);
-    auto isScalar = [&](size_t i) { return kind(i) == TypeKind::Int || kind(i) == TypeKind::Float; };
-    Node* params[2];
+    const char* expected = "(eta, k, roughness = 0.0), eta and k each a Color, Spectrum or Float";
+    if (!arity(3)) return noOverload(expected);
+    std::vector<Node*> operands;
     for (size_t i = 0; i < 2; ++i) {
-      Node* x = args[i].node;
-      if (isScalar(i)) {
-        bool otherIsColor = kind(1 - i) == TypeKind::Color;
-        x = splatTo(x, otherIsColor ? types.color() : types.spectrum(), callSpan);
-      }
-      if (x->type->kind != TypeKind::Color && x->type->kind != TypeKind::Spectrum) return noOverload(expected);
-      params[i] = x;
+      Node* x = scalar(i);
+      if (x && kind(1 - i) == TypeKind::Color) x = splatTo(x, types.color(), callSpan);
+      operands.push_back(x && x->type->kind == TypeKind::Color ? x : colorOrSpectrumArg(i));
     }
-    return prim(Prim::MatConductor, types.material(), {params[0], params[1]}, callSpan);
+    operands.push_back(scalar(2));
+    return material(Prim::MatConductor, operands, expected);
+  }
+  if (name == "thin_dielectric") {
+    const char* expected = "an IOR: a Float or Spectrum";
+    if (!arity(1)) return noOverload(expected);
+    return material(Prim::MatThinDielectric, {spectrumArg(0)}, expected);
+  }
+  if (name == "glossy") {
+    const char* expected = "(reflectance: Color, Spectrum or Float, n: Float)";
+    if (!arity(2)) return noOverload(expected);
+    return material(Prim::MatGlossy, {colorOrSpectrumArg(0), scalar(1)}, expected);
+  }
+  if (name == "glossy_dielectric") {
+    const char* expected = "(ior: Float or Spectrum, n: Float)";
+    if (!arity(2)) return noOverload(expected);
+    return material(Prim::MatGlossyDielectric, {spectrumArg(0), scalar(1)}, expected);
+  }
+  if (name == "layer" || name == "add_material") {
+    const char* expected = name == "layer" ? "(coat: Material, base: Material)" : "(a: Material, b: Material)";
+    if (!arity(2)) return noOverload(expected);
+    return material(name == "layer" ? Prim::MatLayer : Prim::MatAdd, {materialArg(0), materialArg(1)}, expected);
+  }
+  if (name == "scale_material") {
+    const char* expected = "(m: Material, w: Color, Spectrum or Float)";
+    if (!arity(2)) return noOverload(expected);
+    return material(Prim::MatScale, {materialArg(0), colorOrSpectrumArg(1)}, expected);
   }
   if (name == "mix_material") {
-    if (!arity(3) || kind(0) != TypeKind::Material || kind(1) != TypeKind::Material ||
-        (kind(2) != TypeKind::Float && kind(2) != TypeKind::Int))
-      return noOverload("(Material, Material, Float)");
-    return prim(Prim::MatMix, types.material(), {args[0].node, args[1].node, toFloat(args[2].node, callSpan)}, callSpan);
+    const char* expected = "(Material, Material, Float)";
+    if (!arity(3)) return noOverload(expected);
+    return material(Prim::MatMix, {materialArg(0), materialArg(1), scalar(2)}, expected);
   }
   if (name == "fold") {
     if (!arity(3) || kind(0) != TypeKind::Int) return noOverload("(n: Int, init, f: (acc, Int) -> acc)");

@@ -20,6 +20,13 @@ struct TypedArg {
   ir::Node* node;
 };
 
+// A builtin parameter that may be given by name; `optional` ones default to the Float `value`.
+struct BuiltinParam {
+  std::string name;
+  bool optional = false;
+  float value = 0.0f;
+};
+
 class Builder {
  public:
   Builder(Session::Impl& impl, ModuleInfo* module);
@@ -54,8 +61,8 @@ class Builder {
 
   // builtins.cpp
   ir::Node* builtinCall(const std::string& name, std::vector<TypedArg> args, Span calleeSpan, Span callSpan);
-  bool orderBuiltinArgs(const std::string& name, const std::vector<std::string>& params, std::vector<TypedArg>& args,
-                        Span calleeSpan);
+  bool orderBuiltinArgs(const std::string& name, const std::vector<BuiltinParam>& params, std::vector<TypedArg>& args,
+                        Span calleeSpan, Span callSpan);
   ir::Node* builtinConstant(const std::string& name, Span span);
 
   Diagnostic* error(const std::string& code, Span span, std::string message, std::string help = {});

@@ -13,9 +13,50 @@ const char* primName(Prim p) {
       "iadd", "isub", "imul", "idiv", "irem", "ineg", "iand", "ior", "ixor", "ishl", "ishr",
       "inot", "imin", "imax", "iabs", "ilt", "ile", "igt", "ige", "ieq", "ine",
       "bnot", "beq", "bne", "itof", "ftoi", "splat", "concat", "swizzle", "dot", "wavelengths",
-      "mat_diffuse", "mat_emission", "mat_mix", "mat_dielectric", "mat_conductor"};
-  static_assert(sizeof(names) / sizeof(names[0]) == size_t(Prim::MatConductor) + 1, "primName table out of date");
+      "mat_diffuse", "mat_emission", "mat_mix", "mat_dielectric", "mat_conductor", "mat_thin_dielectric",
+      "mat_glossy", "mat_glossy_dielectric", "mat_layer", "mat_scale", "mat_add"};
+  static_assert(sizeof(names) / sizeof(names[0]) == size_t(Prim::MatAdd) + 1, "primName table out of date");
   return names[size_t(p)];
+}
+
+namespace {
+
+struct MaterialEntry {
+  Prim prim;
+  const char* builtin;
+  MaterialShape shape;
+};
+
+// Indexed by closure kind - 1 (kinds are 1, 2, ... in ABI order).
+const MaterialEntry kMaterials[] = {
+    {Prim::MatDiffuse, "diffuse", {1, 0, 1, 0, false}},
+    {Prim::MatEmission, "emission", {2, 0, 1, 0, false}},
+    {Prim::MatMix, "mix_material", {3, 2, 0, 0, true}},
+    {Prim::MatDielectric, "dielectric", {4, 0, 1, 1, false}},
+    {Prim::MatConductor, "conductor", {5, 0, 2, 1, false}},
+    {Prim::MatThinDielectric, "thin_dielectric", {6, 0, 1, 0, false}},
+    {Prim::MatGlossy, "glossy", {7, 0, 1, 1, false}},
+    {Prim::MatGlossyDielectric, "glossy_dielectric", {8, 0, 1, 1, false}},
+    {Prim::MatLayer, "layer", {9, 2, 0, 0, false}},
+    {Prim::MatScale, "scale_material", {10, 1, 1, 0, false}},
+    {Prim::MatAdd, "add_material", {11, 2, 0, 0, false}},
+};
+constexpr size_t kMaterialCount = sizeof(kMaterials) / sizeof(kMaterials[0]);
+static_assert(kMaterialCount == size_t(Prim::MatAdd) - size_t(Prim::MatDiffuse) + 1, "material table out of date");
+
+}  // namespace
+
+const MaterialShape* materialShape(Prim p) {
+  if (p < Prim::MatDiffuse || p > Prim::MatAdd) return nullptr;
+  return &kMaterials[size_t(p) - size_t(Prim::MatDiffuse)].shape;
+}
+
+const MaterialShape* materialShapeOfKind(uint32_t kind) {
+  return kind >= 1 && kind <= kMaterialCount ? &kMaterials[kind - 1].shape : nullptr;
+}
+
+const char* materialBuiltinName(uint32_t kind) {
+  return kind >= 1 && kind <= kMaterialCount ? kMaterials[kind - 1].builtin : nullptr;
 }
 
 static void dumpNode(std::ostringstream& out, const Node* n, int indent) {

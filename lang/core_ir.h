@@ -37,16 +37,40 @@ enum class Prim : uint8_t {
   Swizzle,      // float-based -> float-based; `lanes` holds the source lane indices
   Dot,          // two equal float-based -> Float
   Wavelengths,  // () -> Spectrum: the context's wavelengths in nm
-  // materials
+  // materials (operands in the order of MaterialShape: children, parameter vectors, scalars, weight)
   MatDiffuse,   // Color|Spectrum -> Material
   MatEmission,  // Color|Spectrum -> Material
   MatMix,       // (Material, Material, Float) -> Material
-  MatDielectric,  // Spectrum (interior IOR over exterior) -> Material
-  MatConductor,   // (eta: Color|Spectrum, k: Color|Spectrum) -> Material
+  MatDielectric,  // (ior: Spectrum (interior over exterior), roughness: Float) -> Material
+  MatConductor,   // (eta: Color|Spectrum, k: Color|Spectrum, roughness: Float) -> Material
+  MatThinDielectric,    // ior: Spectrum -> Material
+  MatGlossy,            // (reflectance: Color|Spectrum, n: Float) -> Material
+  MatGlossyDielectric,  // (ior: Spectrum, n: Float) -> Material
+  MatLayer,             // (coat: Material, base: Material) -> Material
+  MatScale,             // (m: Material, w: Color|Spectrum) -> Material
+  MatAdd,               // (Material, Material) -> Material
 };
-// True for the material leaves, whose closure nodes carry parameters (and flags).
+
+// How a material primitive's operands fill a closure node (docs/abi.md, "Materials"): first
+// `children` Materials (node fields a, b), then `params` Color/Spectrum vectors (params,
+// params2), then `scalars` Floats (scalars[0..]), then the Mix weight if `weight`. `kind` is
+// the ABI's ClosureKind number; the interpreter's MaterialNode::Kind uses the same numbers.
+struct MaterialShape {
+  uint32_t kind = 0;
+  int children = 0, params = 0, scalars = 0;
+  bool weight = false;
+};
+// Null for a primitive that builds no material.
+const MaterialShape* materialShape(Prim p);
+const MaterialShape* materialShapeOfKind(uint32_t kind);
+// The builtin that builds closure kind `kind` ("diffuse", "layer", ...), or null.
+const char* materialBuiltinName(uint32_t kind);
+
+// True for the material primitives whose closure nodes carry parameter vectors, and therefore
+// the wavelength-dependence flag.
 inline bool isMaterialLeaf(Prim p) {
-  return p == Prim::MatDiffuse || p == Prim::MatEmission || p == Prim::MatDielectric || p == Prim::MatConductor;
+  const MaterialShape* shape = materialShape(p);
+  return shape && shape->params > 0;
 }
 const char* primName(Prim p);
 

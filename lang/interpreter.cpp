@@ -247,36 +247,41 @@ class Interpreter {
       }
       case Prim::MatDiffuse:
       case Prim::MatEmission:
+      case Prim::MatMix:
       case Prim::MatDielectric:
-      case Prim::MatConductor: {
-        auto m = std::make_shared<MaterialNode>();
-        m->kind = n->prim == Prim::MatDiffuse    ? MaterialNode::Kind::Diffuse
-                  : n->prim == Prim::MatEmission ? MaterialNode::Kind::Emission
-                  : n->prim == Prim::MatDielectric ? MaterialNode::Kind::Dielectric
-                                                   : MaterialNode::Kind::Conductor;
-        m->paramType = n->args[0]->type;
-        m->param = eval(n->args[0], slots);
-        if (n->args.size() > 1) {
-          m->param2Type = n->args[1]->type;
-          m->param2 = eval(n->args[1], slots);
-        }
-        m->flags = leafFlags(n);
-        Value v;
-        v.material = std::move(m);
-        return v;
-      }
-      case Prim::MatMix: {
-        auto m = std::make_shared<MaterialNode>();
-        m->kind = MaterialNode::Kind::Mix;
-        m->a = eval(n->args[0], slots).material;
-        m->b = eval(n->args[1], slots).material;
-        m->weight = eval(n->args[2], slots).f[0];
-        Value v;
-        v.material = std::move(m);
-        return v;
-      }
+      case Prim::MatConductor:
+      case Prim::MatThinDielectric:
+      case Prim::MatGlossy:
+      case Prim::MatGlossyDielectric:
+      case Prim::MatLayer:
+      case Prim::MatScale:
+      case Prim::MatAdd: return material(n, slots);
     }
     return {};
+  }
+
+  // A material node, its operands read in the order of ir::MaterialShape.
+  Value material(const Node* n, std::vector<Value>& slots) {
+    const ir::MaterialShape& shape = *ir::materialShape(n->prim);
+    auto m = std::make_shared<MaterialNode>();
+    m->kind = MaterialNode::Kind(shape.kind);
+    size_t at = 0;
+    if (shape.children > 0) m->a = eval(n->args[at++], slots).material;
+    if (shape.children > 1) m->b = eval(n->args[at++], slots).material;
+    if (shape.params > 0) {
+      m->paramType = n->args[at]->type;
+      m->param = eval(n->args[at++], slots);
+    }
+    if (shape.params > 1) {
+      m->param2Type = n->args[at]->type;
+      m->param2 = eval(n->args[at++], slots);
+    }
+    for (int i = 0; i < shape.scalars; ++i) m->scalars[i] = eval(n->args[at++], slots).f[0];
+    if (shape.weight) m->weight = eval(n->args[at++], slots).f[0];
+    if (shape.params > 0) m->flags = leafFlags(n);
+    Value v;
+    v.material = std::move(m);
+    return v;
   }
 
   // The leaf's flags in the context of the current call path (analysed on first use, so

@@ -3,6 +3,8 @@
 #include <charconv>
 #include <cmath>
 
+#include "lang/core_ir.h"
+
 namespace tex::lang {
 
 int lanesOf(const Type* t, const WavelengthGroup& group) {
@@ -26,24 +28,26 @@ static std::string lanes(const char* prefix, const Value& v, int n) {
 }
 
 static std::string formatMaterial(const MaterialNode* m, const WavelengthGroup& group) {
-  if (!m) return "<material>";
-  // A leaf prints as the call that builds it; ", varying" marks a wavelength-dependent one.
-  auto leaf = [&](const char* name, bool two) {
-    std::string s = std::string(name) + "(" + formatValue(m->param, m->paramType, group);
-    if (two) s += ", " + formatValue(m->param2, m->param2Type, group);
-    if (m->flags & kMaterialVariesWithWavelength) s += ", varying";
-    return s + ")";
-  };
-  switch (m->kind) {
-    case MaterialNode::Kind::Diffuse: return leaf("diffuse", false);
-    case MaterialNode::Kind::Emission: return leaf("emission", false);
-    case MaterialNode::Kind::Dielectric: return leaf("dielectric", false);
-    case MaterialNode::Kind::Conductor: return leaf("conductor", true);
-    case MaterialNode::Kind::Mix:
-      return "mix_material(" + formatMaterial(m->a.get(), group) + ", " + formatMaterial(m->b.get(), group) + ", " +
-             formatFloat(m->weight) + ")";
+  const ir::MaterialShape* shape = m ? ir::materialShapeOfKind(uint32_t(m->kind)) : nullptr;
+  if (!shape) return "<material>";
+  // A node prints as the call that builds it: children, parameters, scalars, the Mix weight;
+  // a roughness of 0 (the default) is left out, another is named; ", varying" marks a
+  // wavelength-dependent node.
+  std::vector<std::string> parts;
+  if (shape->children > 0) parts.push_back(formatMaterial(m->a.get(), group));
+  if (shape->children > 1) parts.push_back(formatMaterial(m->b.get(), group));
+  if (shape->params > 0) parts.push_back(formatValue(m->param, m->paramType, group));
+  if (shape->params > 1) parts.push_back(formatValue(m->param2, m->param2Type, group));
+  bool roughness = m->kind == MaterialNode::Kind::Dielectric || m->kind == MaterialNode::Kind::Conductor;
+  for (int i = 0; i < shape->scalars; ++i) {
+    if (!roughness) parts.push_back(formatFloat(m->scalars[i]));
+    else if (m->scalars[i] != 0.0f) parts.push_back("roughness: " + formatFloat(m->scalars[i]));
   }
-  return "<material>";
+  if (shape->weight) parts.push_back(formatFloat(m->weight));
+  if (m->flags & kMaterialVariesWithWavelength) parts.push_back("varying");
+  std::string s = std::string(ir::materialBuiltinName(uint32_t(m->kind))) + "(";
+  for (size_t i = 0; i < parts.size(); ++i) s += (i ? ", " : "") + parts[i];
+  return s + ")";
 }
 
 std::string formatValue(const Value& v, const Type* t, const WavelengthGroup& group) {

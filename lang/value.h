@@ -25,16 +25,21 @@ struct Value {
   static Value ofBool(bool x) { Value v; v.i = x ? 1 : 0; return v; }
 };
 
-// A closure tree: the renderer issues grow the set of lobes.
+// A closure tree: the renderer issues grow the set of lobes. Kinds carry the ABI's
+// ClosureKind numbers (compiler/abi.h static_asserts it), and fields are used as there.
 struct MaterialNode {
-  enum class Kind { Diffuse, Emission, Mix, Dielectric, Conductor } kind = Kind::Diffuse;
-  const Type* paramType = nullptr;   // Color or Spectrum (Diffuse, Emission, Dielectric, Conductor)
-  Value param;                       // albedo, radiance, IOR or the conductor's eta
+  enum class Kind : uint32_t {
+    Diffuse = 1, Emission = 2, Mix = 3, Dielectric = 4, Conductor = 5, ThinDielectric = 6,
+    Glossy = 7, GlossyDielectric = 8, Layer = 9, Scale = 10, Add = 11,
+  } kind = Kind::Diffuse;
+  const Type* paramType = nullptr;   // Color or Spectrum, for kinds with parameters
+  Value param;                       // albedo, radiance, IOR, eta, reflectance or Scale's weight
   const Type* param2Type = nullptr;  // Conductor: Color or Spectrum
   Value param2;                      // Conductor: k (extinction)
   uint32_t flags = 0;                // kMaterialVariesWithWavelength (decided statically)
-  std::shared_ptr<const MaterialNode> a, b;  // Mix
+  std::shared_ptr<const MaterialNode> a, b;  // Mix, Layer (coat, base), Add; Scale: a
   float weight = 0;                          // Mix: weight of b
+  float scalars[4] = {};                     // roughness (Dielectric, Conductor), n (Glossy*)
 };
 
 // MaterialNode::flags bit 0: the node's parameters depend on the wavelength (lambda_nm); the
