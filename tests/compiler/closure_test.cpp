@@ -1,8 +1,10 @@
 // Material closures built by compiled code: dielectric and conductor lobes, the
-// wavelength-dependence flag, mix weights and arena overflow, at 4 and 8 wavelengths, against
-// the interpreter's tree; and the std.spectra formulas.
+// wavelength-dependence flag, mix weights and arena overflow, the layered/scaled/added kinds
+// with their scalars, at 4 and 8 wavelengths, against the interpreter's tree; and the
+// std.spectra / std.materials formulas.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -164,6 +166,113 @@ TEST_P(ClosureLanes, ArenaOverflowIsReportedNotACrash) {
   root = 0;
   module->entry(f.fn)(args.data(), &root, &ctx);
   EXPECT_EQ(root, -1);
+}
+
+// Every kind of the material algebra, with scalars from the Hit (so they are not constants
+// folded at compile time) and a Spectrum weight from the entry's parameter.
+const char* kAlgebraSource =
+    "import std.spectra.{cauchy}\n"
+    "export fn m(h: Hit, w: Spectrum) -> Material =\n"
+    "  add_material(\n"
+    "    layer(glossy_dielectric(cauchy(1.5, 4200.0), 40.0),\n"
+    "          mix_material(conductor(rgb(0.2, 0.4, 0.6), 3.0, roughness: h.uv.y), dielectric(1.5, h.uv.x), 0.5)),\n"
+    "    scale_material(add_material(thin_dielectric(1.33), glossy(rgb(0.9, 0.5, 0.1), n: 12)), w))\n";
+
+TEST_P(ClosureLanes, AlgebraNodesCarryChildrenScalarsAndFlags) {
+  const int lanes = GetParam();
+  Session session;
+  ModuleInfo* mod = session.loadSource("algebra.tex", kAlgebraSource);
+  auto& types = TypeTable::global();
+  int fn = mod ? session.instantiate(mod, "m", {types.hit(), types.spectrum()}, Span{}) : -1;
+  for (auto& d : session.diags().items()) ADD_FAILURE() << renderDiagnostic(d);
+  ASSERT_GE(fn, 0);
+  compiler::CompileOptions options;
+  options.useCache = false;
+  options.wavelengths = lanes;
+  auto module = compiler::compile(session.program(), {fn}, options, session.diags());
+  ASSERT_NE(module, nullptr);
+
+  WavelengthGroup group = groupOf(lanes);
+  std::vector<ClosureNode> nodes(16);
+  compiler::ClosureArena arena{nodes.data(), int32_t(nodes.size()), 0, 0};
+  compiler::ShadingContext ctx = contextOf(group, &arena);
+  Value hit = makeHit(0.125f, 0.375f);
+  Value w = etaValue(lanes);
+  std::vector<uint32_t> args = argWords(hit, w, lanes);
+  int32_t root = -1;
+  module->entry(fn)(args.data(), &root, &ctx);
+  ASSERT_EQ(arena.overflow, 0);
+  ASSERT_EQ(arena.count, 10);
+  ASSERT_GE(root, 0);
+  auto node = [&](int32_t i) -> const ClosureNode& {
+    EXPECT_TRUE(i >= 0 && i < arena.count) << i;
+    return nodes[size_t(std::clamp(i, 0, arena.count - 1))];
+  };
+  auto isLeaf = [](const ClosureNode& n) { return n.a == -1 && n.b == -1; };
+
+  const ClosureNode& top = node(root);
+  ASSERT_EQ(top.kind, ClosureKind::Add);
+  EXPECT_EQ(top.paramKind, ClosureParam::None);
+  EXPECT_EQ(top.flags, 0u);
+
+  const ClosureNode& layer = node(top.a);
+  ASSERT_EQ(layer.kind, ClosureKind::Layer);
+  EXPECT_EQ(layer.flags, 0u);
+  const ClosureNode& coat = node(layer.a);
+  ASSERT_EQ(coat.kind, ClosureKind::GlossyDielectric);
+  EXPECT_TRUE(isLeaf(coat));
+  EXPECT_EQ(coat.paramKind, ClosureParam::Spectrum);
+  EXPECT_EQ(coat.flags, compiler::kClosureVariesWithWavelength);
+  EXPECT_EQ(coat.scalars[0], 40.0f);
+  for (int i = 1; i < 4; ++i) EXPECT_EQ(coat.scalars[i], 0.0f);
+  for (int i = 0; i < lanes; ++i)
+    EXPECT_EQ(coat.params[i], 1.5f + 4200.0f / (group.lambdaNm[i] * group.lambdaNm[i])) << "lane " << i;
+
+  const ClosureNode& base = node(layer.b);
+  ASSERT_EQ(base.kind, ClosureKind::Mix);
+  EXPECT_EQ(base.weight, 0.5f);
+  const ClosureNode& metal = node(base.a);
+  ASSERT_EQ(metal.kind, ClosureKind::Conductor);
+  EXPECT_EQ(metal.paramKind, ClosureParam::Color);
+  EXPECT_EQ(metal.param2Kind, ClosureParam::Color);
+  EXPECT_EQ(metal.params2[1], 3.0f);
+  EXPECT_EQ(metal.scalars[0], 0.375f);  // h.uv.y
+  EXPECT_EQ(metal.flags, 0u);
+  const ClosureNode& rough = node(base.b);
+  ASSERT_EQ(rough.kind, ClosureKind::Dielectric);
+  EXPECT_EQ(rough.scalars[0], 0.125f);  // h.uv.x
+  EXPECT_EQ(rough.flags, 0u);
+
+  const ClosureNode& scale = node(top.b);
+  ASSERT_EQ(scale.kind, ClosureKind::Scale);
+  EXPECT_EQ(scale.b, -1);
+  EXPECT_EQ(scale.paramKind, ClosureParam::Spectrum);
+  EXPECT_EQ(scale.flags, compiler::kClosureVariesWithWavelength);  // w is an entry Spectrum
+  for (int i = 0; i < lanes; ++i) EXPECT_EQ(scale.params[i], w.f[i]);
+  const ClosureNode& sum = node(scale.a);
+  ASSERT_EQ(sum.kind, ClosureKind::Add);
+  const ClosureNode& thin = node(sum.a);
+  ASSERT_EQ(thin.kind, ClosureKind::ThinDielectric);
+  EXPECT_TRUE(isLeaf(thin));
+  for (int i = 0; i < lanes; ++i) EXPECT_EQ(thin.params[i], 1.33f);
+  EXPECT_EQ(thin.scalars[0], 0.0f);
+  const ClosureNode& glossy = node(sum.b);
+  ASSERT_EQ(glossy.kind, ClosureKind::Glossy);
+  EXPECT_EQ(glossy.paramKind, ClosureParam::Color);
+  EXPECT_EQ(glossy.params[0], 0.9f);
+  EXPECT_EQ(glossy.params[2], 0.1f);
+  EXPECT_EQ(glossy.scalars[0], 12.0f);  // an Int n, promoted
+  EXPECT_EQ(glossy.flags, 0u);
+
+  // The interpreter builds the same tree, scalars and flags included.
+  Value interp = evaluate(session.program(), fn, {hit, w}, group);
+  Value jit = compiler::unflatten(reinterpret_cast<const uint32_t*>(&root), types.material(), lanes, &arena);
+  ASSERT_TRUE(interp.material && jit.material);
+  EXPECT_EQ(formatValue(jit, types.material(), group), formatValue(interp, types.material(), group));
+  EXPECT_EQ(interp.material->a->b->a->scalars[0], 0.375f);
+  EXPECT_EQ(interp.material->b->flags, kMaterialVariesWithWavelength);
+  EXPECT_EQ(interp.material->a->a->flags, kMaterialVariesWithWavelength);
+  EXPECT_EQ(interp.material->a->b->b->flags, 0u);
 }
 
 INSTANTIATE_TEST_SUITE_P(Wavelengths, ClosureLanes, ::testing::Values(4, 8));
