@@ -1,3 +1,4 @@
+#include <cstring>
 #include "renderer/spectra/rgb_spectrum.h"
 
 #include <algorithm>
@@ -35,7 +36,7 @@ SigmoidPolynomial flat(float v) {
 }  // namespace
 
 float SigmoidPolynomial::operator()(float lambdaNm) const {
-  return sigmoid(std::fma(std::fma(c0, lambdaNm, c1), lambdaNm, c2));
+  return sigmoid((c0 * lambdaNm + c1) * lambdaNm + c2);  // (std::fma is a libm call without -mfma)
 }
 
 float SigmoidPolynomial::maxValue() const {
@@ -48,7 +49,32 @@ float SigmoidPolynomial::maxValue() const {
   return m;
 }
 
-SigmoidPolynomial rgbToSigmoid(const Vec3& rgbIn) {
+namespace {
+SigmoidPolynomial rgbToSigmoidUncached(const Vec3& rgbIn);
+}  // namespace
+
+// Materials ask for the same few colours at every hit (constant base colours, folded .tex
+// constants), and the table lookup costs three binary searches and 24 scattered reads: a small
+// per-thread direct-mapped cache keyed by the exact bits of the colour answers most of them.
+SigmoidPolynomial rgbToSigmoid(const Vec3& rgb) {
+  struct Entry {
+    uint32_t key[3];
+    SigmoidPolynomial value;
+    bool valid;
+  };
+  thread_local Entry cache[64] = {};
+  uint32_t k[3];
+  std::memcpy(k, &rgb, sizeof k);
+  const uint32_t slot = ((k[0] * 0x9E3779B1u) ^ (k[1] * 0x85EBCA77u) ^ (k[2] * 0xC2B2AE3Du)) >> 26;
+  Entry& e = cache[slot];
+  if (e.valid && e.key[0] == k[0] && e.key[1] == k[1] && e.key[2] == k[2]) return e.value;
+  const SigmoidPolynomial value = rgbToSigmoidUncached(rgb);
+  e = {{k[0], k[1], k[2]}, value, true};
+  return value;
+}
+
+namespace {
+SigmoidPolynomial rgbToSigmoidUncached(const Vec3& rgbIn) {
   const float rgb[3] = {std::clamp(sanitise(rgbIn.x), 0.0f, 1.0f), std::clamp(sanitise(rgbIn.y), 0.0f, 1.0f),
                         std::clamp(sanitise(rgbIn.z), 0.0f, 1.0f)};
   if (rgb[0] == rgb[1] && rgb[1] == rgb[2]) return flat(rgb[0]);
@@ -79,6 +105,8 @@ SigmoidPolynomial rgbToSigmoid(const Vec3& rgbIn) {
   }
   return {c[0], c[1], c[2]};
 }
+
+}  // namespace
 
 RgbUnbounded rgbToUnbounded(const Vec3& rgbIn) {
   // As pbrt-v4's RGBUnboundedSpectrum: the shape's largest component is 1/2, leaving the
