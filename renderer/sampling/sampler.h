@@ -34,7 +34,7 @@ class Sampler {
   // Coordinate `dimension` of sample `index`, in [0,1).
   float get(uint64_t index, int dimension) const {
     if (kind_ == SamplerKind::Sobol && (index >> 32) == 0 && unsigned(dimension) < unsigned(kSobolDimensions))
-      return bitsToUnitFloat(owenScramble(sobolBits(uint32_t(index), dimension), (*scrambleSeeds_)[size_t(dimension)]));
+      return bitsToUnitFloat(owenScramble(sobolBitsFast(uint32_t(index), dimension), (*scrambleSeeds_)[size_t(dimension)]));
     return bitsToUnitFloat(getBits(index, dimension));
   }
   // 32 fixed-point bits of the same coordinate (for exact stratification tests).

@@ -4,6 +4,18 @@
 
 namespace tex::sampling {
 
+namespace {
+const uint32_t (*buildByteTables())[4][256] {
+  static uint32_t tables[kSobolByteTableDimensions][4][256];
+  for (int d = 0; d < kSobolByteTableDimensions; ++d)
+    for (int b = 0; b < 4; ++b)
+      for (uint32_t v = 0; v < 256; ++v) tables[d][b][v] = sobolBits(v << (8 * b), d);
+  return tables;
+}
+}  // namespace
+
+const uint32_t (*const kSobolByteTables)[4][256] = buildByteTables();
+
 uint32_t sobolScrambleSeed(uint64_t seed, int dimension, uint32_t indexHigh) {
   return uint32_t(hashWords(seed, uint64_t(dimension), indexHigh) >> 32);
 }
@@ -13,7 +25,7 @@ uint32_t sobolOwenBits(uint64_t seed, uint64_t index, int dimension) {
   if (dimension >= kSobolDimensions || dimension < 0) {
     return uint32_t(hashWords(seed ^ 0x5eed5eed5eedull, index, uint64_t(dimension)) >> 32);
   }
-  return owenScramble(sobolBits(uint32_t(index), dimension), sobolScrambleSeed(seed, dimension, high));
+  return owenScramble(sobolBitsFast(uint32_t(index), dimension), sobolScrambleSeed(seed, dimension, high));
 }
 
 float sobolOwen(uint64_t seed, uint64_t index, int dimension) {

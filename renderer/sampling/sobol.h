@@ -23,6 +23,17 @@ inline uint32_t sobolBits(uint32_t index, int dimension) {
   return bits;
 }
 
+// The same product by bytes: for the first kSobolByteTableDimensions dimensions (those every
+// path uses), four lookups in per-dimension tables of the XOR of the columns selected by each
+// byte value, instead of a loop over the index's bits (256 KB of tables, built at start-up).
+inline constexpr int kSobolByteTableDimensions = 64;
+extern const uint32_t (*const kSobolByteTables)[4][256];
+inline uint32_t sobolBitsFast(uint32_t index, int dimension) {
+  if (dimension >= kSobolByteTableDimensions) return sobolBits(index, dimension);
+  const uint32_t(*t)[256] = kSobolByteTables[dimension];
+  return t[0][index & 0xffu] ^ t[1][(index >> 8) & 0xffu] ^ t[2][(index >> 16) & 0xffu] ^ t[3][index >> 24];
+}
+
 inline uint32_t reverseBits32(uint32_t x) {
   x = __builtin_bswap32(x);  // bytes, then bits within bytes
   x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
