@@ -12,6 +12,8 @@
 #include "compiler/value_layout.h"
 #include "lang/interpreter.h"
 #include "lang/session.h"
+#include "renderer/color/color.h"
+#include "renderer/spectra/spectrum_desc.h"
 
 using namespace tex;
 using namespace tex::lang;
@@ -354,6 +356,156 @@ TEST(Spectra, IorsMatchTheirFormulasAndCatalogueValues) {
   std::vector<float> flat = spectrumAt("sellmeier(1.25, 0.0, 0.0, 0.0, 0.0, 0.0)", {400, 700});
   EXPECT_FLOAT_EQ(flat[0], 1.5f);
   EXPECT_FLOAT_EQ(flat[1], 1.5f);
+}
+
+// A zero-argument Spectrum (or Material) expression checked once, evaluated by the interpreter
+// at any wavelengths (eight at a time).
+class SpectrumProgram {
+ public:
+  SpectrumProgram(const std::string& imports, const std::string& expr) {
+    ModuleInfo* m = session_.loadSource("spectra.tex", imports + "\nfn main() = " + expr + "\n");
+    fn_ = m ? session_.instantiate(m, "main", {}, Span{}) : -1;
+    for (auto& d : session_.diags().items()) ADD_FAILURE() << renderDiagnostic(d);
+  }
+  bool ok() const { return fn_ >= 0; }
+  Value at(const std::vector<float>& lambdas) {
+    WavelengthGroup g;
+    g.count = int(lambdas.size());
+    for (size_t i = 0; i < lambdas.size(); ++i) g.lambdaNm[i] = lambdas[i];
+    return evaluate(session_.program(), fn_, {}, g);
+  }
+  // The Spectrum's value at each wavelength of `lambdas`.
+  std::vector<float> sample(const std::vector<float>& lambdas) {
+    std::vector<float> out;
+    for (size_t i = 0; i < lambdas.size(); i += kMaxLanes) {
+      std::vector<float> chunk(lambdas.begin() + long(i), lambdas.begin() + long(std::min(lambdas.size(), i + kMaxLanes)));
+      Value v = at(chunk);
+      out.insert(out.end(), v.f, v.f + chunk.size());
+    }
+    return out;
+  }
+
+ private:
+  Session session_;
+  int fn_ = -1;
+};
+
+std::vector<float> everyNm(float from, float to) {
+  std::vector<float> l;
+  for (float x = from; x <= to; x += 1.0f) l.push_back(x);
+  return l;
+}
+
+TEST(StdSpectra, MetalIorsFollowTheRenderersMeasuredTables) {
+  // The generator keeps each reduced table within 0.4% (or 0.001) of the full one.
+  const char* imports = "import std.spectra.{gold_eta, gold_k, silver_eta, silver_k, copper_eta, copper_k, aluminium_eta, aluminium_k}";
+  const std::pair<const char*, const char*> tables[] = {
+      {"gold_eta()", "Au-eta"},   {"gold_k()", "Au-k"},   {"silver_eta()", "Ag-eta"},       {"silver_k()", "Ag-k"},
+      {"copper_eta()", "Cu-eta"}, {"copper_k()", "Cu-k"}, {"aluminium_eta()", "Al-eta"}, {"aluminium_k()", "Al-k"}};
+  const std::vector<float> lambdas = everyNm(360.0f, 830.0f);
+  for (const auto& [expr, name] : tables) {
+    SpectrumProgram p(imports, expr);
+    ASSERT_TRUE(p.ok()) << expr;
+    const auto* table = render::namedSpectrum(name);
+    ASSERT_NE(table, nullptr) << name;
+    std::vector<float> got = p.sample(lambdas);
+    for (size_t i = 0; i < lambdas.size(); ++i) {
+      float want = render::interpolateTable(*table, lambdas[i]);
+      ASSERT_NEAR(got[i], want, std::max(0.004f * std::abs(want), 0.001f) + 1e-5f) << expr << " at " << lambdas[i] << " nm";
+    }
+  }
+  // The brief's check: gold's eta at 550 nm within 1% of the table.
+  SpectrumProgram gold(imports, "gold_eta()");
+  float want = render::interpolateTable(*render::namedSpectrum("Au-eta"), 550.0f);
+  EXPECT_NEAR(gold.sample({550.0f})[0], want, 0.01f * want);
+}
+
+TEST(StdSpectra, CieD65FollowsTheCieTableAndIsOneAt560) {
+  SpectrumProgram p("import std.spectra.{cie_d65}", "cie_d65()");
+  ASSERT_TRUE(p.ok());
+  const std::vector<float> lambdas = everyNm(360.0f, 780.0f);
+  std::vector<float> got = p.sample(lambdas);
+  for (size_t i = 0; i < lambdas.size(); ++i) {
+    float want = color::d65RelativePower(lambdas[i]) / 100.0f;
+    ASSERT_NEAR(got[i], want, std::max(0.004f * want, 0.001f) + 1e-5f) << lambdas[i] << " nm";
+  }
+  EXPECT_NEAR(p.sample({560.0f})[0], 1.0f, 1e-5f);
+}
+
+TEST(StdSpectra, IlluminantAIsTheCieFormulaNormalisedAt560) {
+  SpectrumProgram p("import std.spectra.{illuminant_a}", "illuminant_a()");
+  ASSERT_TRUE(p.ok());
+  // CIE 15:2004: S(l) = 100 (560 / l)^5 (e^(c2 / (2848 * 560)) - 1) / (e^(c2 / (2848 l)) - 1), c2 = 1.435e7 nm K.
+  auto cie = [](double nm) { return std::pow(560.0 / nm, 5.0) * std::expm1(1.435e7 / (2848.0 * 560.0)) / std::expm1(1.435e7 / (2848.0 * nm)); };
+  // The same curve as Planck at 2856 K with today's c2 (within 0.1%).
+  auto planck2856 = [](double nm) {
+    auto b = [](double l) { return std::pow(l, -5.0) / std::expm1(1.438776877e7 / (l * 2856.0)); };
+    return b(nm) / b(560.0);
+  };
+  const std::vector<float> lambdas = everyNm(360.0f, 830.0f);
+  std::vector<float> got = p.sample(lambdas);
+  for (size_t i = 0; i < lambdas.size(); ++i) {
+    ASSERT_NEAR(got[i], cie(lambdas[i]), 2e-5 * cie(lambdas[i])) << lambdas[i] << " nm";
+    ASSERT_NEAR(got[i], planck2856(lambdas[i]), 1e-3 * planck2856(lambdas[i])) << lambdas[i] << " nm";
+  }
+  EXPECT_NEAR(p.sample({560.0f})[0], 1.0f, 1e-6f);
+}
+
+TEST(StdSpectra, Sf11MatchesTheSchottCatalogue) {
+  SpectrumProgram p("import std.spectra.{sf11, bk7}", "sf11()");
+  ASSERT_TRUE(p.ok());
+  // N-SF11 (glass code 785257): nd = 1.78472 at the helium d line (587.6 nm), Abbe number
+  // vd = (nd - 1) / (nF - nC) = 25.68 with the hydrogen F (486.1 nm) and C (656.3 nm) lines.
+  std::vector<float> n = p.sample({587.5618f, 486.1327f, 656.2725f});
+  EXPECT_NEAR(n[0], 1.78472f, 2e-5f);
+  EXPECT_NEAR((n[0] - 1.0f) / (n[1] - n[2]), 25.68f, 0.02f);
+  // A flint disperses more than a crown: BK7's Abbe number is 64.17.
+  SpectrumProgram crown("import std.spectra.{bk7}", "bk7()");
+  std::vector<float> c = crown.sample({587.5618f, 486.1327f, 656.2725f});
+  EXPECT_NEAR((c[0] - 1.0f) / (c[1] - c[2]), 64.17f, 0.05f);
+}
+
+TEST(StdMaterials, LampIsPowerTimesTheBlackbody) {
+  SpectrumProgram lamp("import std.materials.{lamp}", "lamp(2700.0, 4.0)");
+  SpectrumProgram body("import std.spectra.{blackbody}", "blackbody(2700.0)");
+  ASSERT_TRUE(lamp.ok() && body.ok());
+  std::vector<float> lambdas = {380, 450, 520, 590, 660, 730, 800, 830};
+  Value m = lamp.at(lambdas);
+  ASSERT_TRUE(m.material);
+  EXPECT_EQ(m.material->kind, MaterialNode::Kind::Emission);
+  EXPECT_EQ(m.material->flags, kMaterialVariesWithWavelength);
+  std::vector<float> b = body.sample(lambdas);
+  for (size_t i = 0; i < lambdas.size(); ++i) EXPECT_EQ(m.material->param.f[i], 4.0f * b[i]) << lambdas[i];
+}
+
+TEST(StdMaterials, GoldAt550NmThroughTheJitMatchesTheTable) {
+  // The whole path a renderer takes: std.materials' gold compiled at 8 lanes, eta read from the
+  // closure node at 550 nm.
+  Session session;
+  ModuleInfo* m = session.loadSource("gold.tex", "import std.materials.{gold}\nexport fn g() -> Material = gold(0.25)\n");
+  int fn = m ? session.instantiate(m, "g", {}, Span{}) : -1;
+  for (auto& d : session.diags().items()) ADD_FAILURE() << renderDiagnostic(d);
+  ASSERT_GE(fn, 0);
+  compiler::CompileOptions options;
+  options.useCache = false;
+  options.wavelengths = 8;
+  auto module = compiler::compile(session.program(), {fn}, options, session.diags());
+  ASSERT_NE(module, nullptr);
+  WavelengthGroup group = groupOf(8);
+  group.lambdaNm[3] = 550.0f;
+  std::vector<ClosureNode> nodes(4);
+  compiler::ClosureArena arena{nodes.data(), int32_t(nodes.size()), 0, 0};
+  compiler::ShadingContext ctx = contextOf(group, &arena);
+  int32_t root = -1;
+  module->entry(fn)(nullptr, &root, &ctx);
+  ASSERT_EQ(root, 0);
+  EXPECT_EQ(nodes[0].kind, ClosureKind::Conductor);
+  EXPECT_EQ(nodes[0].scalars[0], 0.25f);
+  EXPECT_EQ(nodes[0].flags, compiler::kClosureVariesWithWavelength);
+  float eta = render::interpolateTable(*render::namedSpectrum("Au-eta"), 550.0f);
+  float k = render::interpolateTable(*render::namedSpectrum("Au-k"), 550.0f);
+  EXPECT_NEAR(nodes[0].params[3], eta, 0.01f * eta);
+  EXPECT_NEAR(nodes[0].params2[3], k, 0.01f * k);
 }
 
 }  // namespace
