@@ -36,6 +36,10 @@ Filter::Filter(FilterKind kind) : kind_(kind) {
   }
   integral *= 2 * radius_ / steps;
   normalisation_ = float(1.0 / integral);
+  if (kind_ == FilterKind::Gaussian || kind_ == FilterKind::Mitchell) {
+    table_.resize(kTableSize + 1);
+    for (int i = 0; i <= kTableSize; ++i) table_[size_t(i)] = raw(radius_ * float(i) / kTableSize) * normalisation_;
+  }
 }
 
 float Filter::raw(float dx) const {
@@ -53,7 +57,14 @@ float Filter::raw(float dx) const {
   return 0.0f;
 }
 
-float Filter::evaluate1d(float dx) const { return raw(dx) * normalisation_; }
+float Filter::evaluate1d(float dx) const {
+  if (table_.empty()) return raw(dx) * normalisation_;
+  const float t = std::fabs(dx) * (float(kTableSize) / radius_);
+  if (!(t < float(kTableSize))) return 0.0f;
+  const int i = int(t);
+  const float f = t - float(i);
+  return table_[size_t(i)] + f * (table_[size_t(i) + 1] - table_[size_t(i)]);
+}
 
 const char* filterName(FilterKind kind) {
   switch (kind) {

@@ -4,6 +4,7 @@
 #pragma once
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace tex {
 
@@ -26,6 +27,11 @@ class Filter {
   FilterKind kind_;
   float radius_;
   float normalisation_ = 1;
+  // Smooth profiles (Gaussian, Mitchell) are tabulated at kTableSize + 1 points over
+  // [0, radius] and interpolated linearly: every record splats up to 16 pixels, and two exp()
+  // per axis per pixel cost more than the rest of the film.
+  static constexpr int kTableSize = 1024;
+  std::vector<float> table_;
 };
 
 const char* filterName(FilterKind kind);
