@@ -36,6 +36,30 @@ struct Walker {
   Bsdf& bsdf;
   Spectrum& emission;
   ClosureEvaluation result;
+  bool underCoat = false;  // inside the base of a layer whose coat the Bsdf holds
+
+  void addLobe(Lobe lobe) {
+    if (lobe.weight.isBlack()) return;
+    lobe.underCoat = underCoat;
+    if (!bsdf.add(lobe)) result.ok = false;
+  }
+
+  // An IOR parameter: positive per lane (0 or less would be meaningless: index-matched), and
+  // dispersive when the compiler says it depends on the wavelength and it differs in the group.
+  void iorLanes(const compiler::ClosureNode& node, Lobe& lobe) const {
+    lobe.a = paramSpectrum(node.paramKind, node.params, lambda, ParamUse::Unbounded);
+    for (int i = 0; i < lambda.count; ++i)
+      if (!(lobe.a.v[i] > 0.0f)) lobe.a.v[i] = 1.0f;
+    bool differs = false;
+    for (int i = 1; i < lambda.count; ++i) differs = differs || lobe.a.v[i] != lobe.a.v[0];
+    lobe.etaVaries = (node.flags & compiler::kClosureVariesWithWavelength) != 0 && differs;
+  }
+
+  // GGX roughness from the language (clamped: negative or NaN means smooth, above 1 is 1).
+  static float roughnessOf(const compiler::ClosureNode& node) {
+    const float r = node.scalars[0];
+    return r > 0.0f ? std::min(r, 1.0f) : 0.0f;
+  }
 
   void walk(int32_t index, const Spectrum& weight, int depth) {
     if (index < 0 || index >= arena.count || depth > kArenaCapacity) {
@@ -48,7 +72,7 @@ struct Walker {
         Lobe lobe;
         lobe.kind = LobeKind::Lambertian;
         lobe.weight = weight * clampZero(paramSpectrum(node.paramKind, node.params, lambda, ParamUse::Reflectance));
-        if (!lobe.weight.isBlack() && !bsdf.add(lobe)) result.ok = false;
+        addLobe(lobe);
         return;
       }
       case compiler::ClosureKind::Emission:
@@ -63,28 +87,88 @@ struct Walker {
       }
       case compiler::ClosureKind::Dielectric: {
         Lobe lobe;
-        lobe.kind = LobeKind::SmoothDielectric;
+        const float roughness = roughnessOf(node);
+        lobe.kind = roughness > 0.0f ? LobeKind::RoughDielectric : LobeKind::SmoothDielectric;
+        lobe.roughness = roughness;
         lobe.weight = weight;
-        lobe.a = paramSpectrum(node.paramKind, node.params, lambda, ParamUse::Unbounded);
-        for (int i = 0; i < lambda.count; ++i)
-          if (!(lobe.a.v[i] > 0.0f)) lobe.a.v[i] = 1.0f;  // no IOR at or below 0: index-matched
-        // The compiler decides statically whether the IOR depends on the wavelength; an IOR
-        // that merely happens to be equal across the group is not dispersive either.
-        bool differs = false;
-        for (int i = 1; i < lambda.count; ++i) differs = differs || lobe.a.v[i] != lobe.a.v[0];
-        lobe.etaVaries = (node.flags & compiler::kClosureVariesWithWavelength) != 0 && differs;
-        if (!lobe.weight.isBlack() && !bsdf.add(lobe)) result.ok = false;
+        iorLanes(node, lobe);
+        addLobe(lobe);
         return;
       }
       case compiler::ClosureKind::Conductor: {
         Lobe lobe;
-        lobe.kind = LobeKind::SmoothConductor;
+        const float roughness = roughnessOf(node);
+        lobe.kind = roughness > 0.0f ? LobeKind::RoughConductor : LobeKind::SmoothConductor;
+        lobe.roughness = roughness;
         lobe.weight = weight;
         lobe.a = paramSpectrum(node.paramKind, node.params, lambda, ParamUse::Unbounded);
         lobe.b = clampZero(paramSpectrum(node.param2Kind, node.params2, lambda, ParamUse::Unbounded));
-        if (!lobe.weight.isBlack() && !bsdf.add(lobe)) result.ok = false;
+        addLobe(lobe);
         return;
       }
+      case compiler::ClosureKind::ThinDielectric: {
+        Lobe lobe;
+        lobe.kind = LobeKind::ThinDielectric;
+        lobe.weight = weight;
+        iorLanes(node, lobe);
+        lobe.etaVaries = false;  // a thin slab does not bend light: no dispersion
+        addLobe(lobe);
+        return;
+      }
+      case compiler::ClosureKind::Glossy: {
+        Lobe lobe;
+        lobe.kind = LobeKind::GlossyReflection;
+        lobe.exponent = std::max(node.scalars[0], 0.0f);
+        lobe.weight = weight * clampZero(paramSpectrum(node.paramKind, node.params, lambda, ParamUse::Reflectance));
+        addLobe(lobe);
+        return;
+      }
+      case compiler::ClosureKind::GlossyDielectric: {
+        Lobe lobe;
+        lobe.kind = LobeKind::GlossyDielectric;
+        lobe.exponent = std::max(node.scalars[0], 0.0f);
+        lobe.weight = weight;
+        iorLanes(node, lobe);
+        addLobe(lobe);
+        return;
+      }
+      case compiler::ClosureKind::Layer: {
+        // The coat must be a dielectric interface (smooth or rough); the base's lobes are
+        // attenuated by its Fresnel transmission (Bsdf::setCoat, docs/layering.md).
+        const int32_t c = node.a;
+        if (c < 0 || c >= arena.count || arena.nodes[c].kind != compiler::ClosureKind::Dielectric || underCoat) {
+          result.ok = false;  // layers of other coats, or nested coats, are not supported yet
+          return;
+        }
+        const compiler::ClosureNode& coatNode = arena.nodes[c];
+        Lobe coat;
+        const float roughness = roughnessOf(coatNode);
+        coat.kind = roughness > 0.0f ? LobeKind::RoughDielectric : LobeKind::SmoothDielectric;
+        coat.roughness = roughness;
+        coat.weight = weight;
+        iorLanes(coatNode, coat);
+        coat.etaVaries = false;  // the coat reflects: its direction does not depend on the IOR
+        if (!bsdf.setCoat(coat)) {
+          result.ok = false;
+          return;
+        }
+        underCoat = true;
+        walk(node.b, weight, depth + 1);
+        underCoat = false;
+        return;
+      }
+      case compiler::ClosureKind::Scale: {
+        const bool bounded = node.paramKind != compiler::ClosureParam::Color ||
+                             (node.params[0] <= 1.0f && node.params[1] <= 1.0f && node.params[2] <= 1.0f);
+        const Spectrum w = clampZero(paramSpectrum(node.paramKind, node.params, lambda,
+                                                   bounded ? ParamUse::Reflectance : ParamUse::Unbounded));
+        walk(node.a, weight * w, depth + 1);
+        return;
+      }
+      case compiler::ClosureKind::Add:
+        walk(node.a, weight, depth + 1);
+        walk(node.b, weight, depth + 1);
+        return;
       default:
         result.ok = false;  // a kind this renderer does not know (docs/abi.md: kinds only grow)
         return;

@@ -50,9 +50,16 @@ void shadeGltfMaterial(const SceneDescription& scene, const GltfMaterial& m, con
       std::clamp(m.transmissionFactor * lookupTexture(scene, m.transmissionTexture, point.uv, point.uv, false).x, 0.0f, 1.0f);
   const Spectrum baseSpectrum = rgbReflectanceSpectrum(base, lambda);
 
+  const float roughness = std::clamp(m.roughnessFactor * mr.y, 0.0f, 1.0f);
+  // glTF's roughness is perceptual: the GGX alpha is its square. Below alpha 1e-3 the lobes are
+  // treated as perfectly smooth (Dirac), as the GGX code would be numerically.
+  const float alpha = roughness * roughness;
+  const bool smooth = alpha < 1e-3f;
+
   if (metal > 0.0f) {
     Lobe conductor;
-    conductor.kind = LobeKind::SmoothConductor;
+    conductor.kind = smooth ? LobeKind::SmoothConductor : LobeKind::RoughConductor;
+    conductor.roughness = alpha;
     conductor.weight = Spectrum(metal);
     for (int i = 0; i < lambda.count; ++i) gulbrandsenIor(baseSpectrum[i], baseSpectrum[i], conductor.a.v[i], conductor.b.v[i]);
     bsdf.add(conductor);
@@ -60,7 +67,8 @@ void shadeGltfMaterial(const SceneDescription& scene, const GltfMaterial& m, con
   const float dielectricShare = (1.0f - metal) * transmission;
   if (dielectricShare > 0.0f) {
     Lobe glass;
-    glass.kind = LobeKind::SmoothDielectric;
+    glass.kind = smooth ? LobeKind::SmoothDielectric : LobeKind::RoughDielectric;
+    glass.roughness = alpha;
     glass.weight = baseSpectrum * dielectricShare;
     for (int i = 0; i < lambda.count; ++i) glass.a.v[i] = dispersiveIor(m.ior, m.dispersion, lambda.lambdaNm[i]);
     glass.etaVaries = m.dispersion > 0.0f && m.ior != 1.0f;
@@ -68,9 +76,17 @@ void shadeGltfMaterial(const SceneDescription& scene, const GltfMaterial& m, con
   }
   const float diffuseShare = (1.0f - metal) * (1.0f - transmission);
   if (diffuseShare > 0.0f) {
+    // The glTF dielectric: a specular coat of the material's IOR over the diffuse base.
+    Lobe coat;
+    coat.kind = smooth ? LobeKind::SmoothDielectric : LobeKind::RoughDielectric;
+    coat.roughness = alpha;
+    coat.weight = Spectrum(diffuseShare);
+    for (int i = 0; i < lambda.count; ++i) coat.a.v[i] = m.ior > 1.0f ? m.ior : 1.5f;
+    const bool coated = bsdf.setCoat(coat);
     Lobe diffuse;
     diffuse.kind = LobeKind::Lambertian;
     diffuse.weight = baseSpectrum * diffuseShare;
+    diffuse.underCoat = coated;
     bsdf.add(diffuse);
   }
 }

@@ -1,10 +1,10 @@
-// The built-in reading of a glTF 2.0 metallic-roughness material with the lobes the renderer
-// has: base colour (factor x sRGB texture) as a Lambertian lobe, metalness as a smooth
-// conductor whose complex IOR reproduces the base colour at normal incidence and its edge tint
-// (Gulbrandsen 2014, "Artist Friendly Metallic Fresnel"), KHR_materials_transmission as a smooth
-// dielectric with KHR_materials_ior and KHR_materials_dispersion (the extension's Abbe-number
-// formula), and emission (emissiveFactor x strength x sRGB texture, upsampled as an illuminant).
-// Roughness is not yet used: rough lobes come with the glossy model (docs/glossy-model.md).
+// The built-in reading of a glTF 2.0 metallic-roughness material: the dielectric part is a
+// Fresnel coat of the material's IOR (GGX, alpha = roughness^2) over a Lambertian base of the
+// base colour (factor x sRGB texture); metalness is a GGX conductor whose complex IOR
+// reproduces the base colour at normal incidence and its edge tint (Gulbrandsen 2014, "Artist
+// Friendly Metallic Fresnel"); KHR_materials_transmission is a GGX dielectric with
+// KHR_materials_ior and KHR_materials_dispersion (the extension's Abbe-number formula);
+// emission is emissiveFactor x strength x sRGB texture, upsampled as an illuminant.
 #pragma once
 #include "renderer/bsdf/bsdf.h"
 #include "renderer/material/material_system.h"
