@@ -1,13 +1,200 @@
-// Placeholder until the glossy model lands (docs/glossy-model.md): the lobes sample nothing and
-// evaluate to zero, so a material using them renders black rather than wrong.
+// The glossy model's lobes (docs/glossy-model.md). In the projected-disk plane of wi (where
+// |cos theta_i| dw_i = dA), the lobe is the planar kernel p(q) of the tangential momentum
+// mismatch q = eta_o wo_t + eta_i wi_t (reflection: eta_o = eta_i = 1, so q = wo_t + wi_t),
+// divided by the symmetric max(M(wo), M(wi)), where M(w) is the share of w's kernel that lands
+// inside the disk of the medium it scatters into. Then:
+//  - reciprocity is exact (q, the max and the symmetric Fresnel factors are symmetric);
+//  - albedo <= weight exactly (f |cos| <= weight p(q) / M(wo), whose integral is weight);
+//  - sampling is exact: draw q from the kernel around the ideal point, lift to the
+//    hemisphere; points outside the disk (below the horizon) give no sample, so
+//    pdfW = eta_i^2 p(q) |cos theta_i| is the exact density of the returned samples.
 #include "renderer/bsdf/glossy_lobe.h"
 
-namespace tex::render {
+#include <algorithm>
+#include <cmath>
 
-Spectrum glossyLobeEval(const Lobe&, const Vec3&, const Vec3&, TransportMode) { return Spectrum(); }
-float glossyLobePdf(const Lobe&, const Vec3&, const Vec3&, TransportMode) { return 0.0f; }
-std::optional<BsdfSample> glossyLobeSample(const Lobe&, const Vec3&, float, Vec2, TransportMode) { return std::nullopt; }
-float glossyLobePdfForLane(const Lobe&, const Vec3&, const Vec3&, TransportMode, int) { return 0.0f; }
-float glossyReflectionAlbedo(float, float) { return 0.0f; }
+#include "renderer/bsdf/bsdf_constants.h"
+#include "renderer/bsdf/glossy_kernel.h"
+
+namespace tex::render {
+namespace {
+
+using glossy::kernelDensity;
+using glossy::kernelMassInDisk;
+
+constexpr double kTwoPiD = 6.28318530717958647692;
+
+bool degenerate(const Vec3& w) { return !(std::fabs(w.z) >= kMinCosTheta) || !std::isfinite(w.x + w.y); }
+bool validExponent(float n) { return n >= 0.0f && std::isfinite(n); }
+bool validEta(float eta) { return eta > 0.0f && std::isfinite(eta); }
+
+double tangentialLength(const Vec3& w) { return std::hypot(double(w.x), double(w.y)); }
+
+// Reflection lobe in the disk plane: p(wo_t + wi_t) / max(M(wo), M(wi)), M over the unit disk.
+double reflectionLobe(double n, const Vec3& wo, const Vec3& wi) {
+  const double qx = double(wo.x) + double(wi.x), qy = double(wo.y) + double(wi.y);
+  const double p = kernelDensity(n, qx * qx + qy * qy);
+  if (p == 0.0) return 0.0;
+  const double m = std::max(kernelMassInDisk(n, tangentialLength(wo), 1.0), kernelMassInDisk(n, tangentialLength(wi), 1.0));
+  return m > 0.0 ? p / m : 0.0;
+}
+
+// Refraction lobe in the momentum plane: p(etaO wo_t + etaI wi_t) / max(M(wo), M(wi)), where
+// wo's kernel must land in the disk of radius etaI (wi's medium) and vice versa.
+double transmissionLobe(double n, const Vec3& wo, const Vec3& wi, double etaO, double etaI) {
+  const double qx = etaO * wo.x + etaI * wi.x, qy = etaO * wo.y + etaI * wi.y;
+  const double p = kernelDensity(n, qx * qx + qy * qy);
+  if (p == 0.0) return 0.0;
+  const double m = std::max(kernelMassInDisk(n, etaO * tangentialLength(wo), etaI),
+                            kernelMassInDisk(n, etaI * tangentialLength(wi), etaO));
+  return m > 0.0 ? p / m : 0.0;
+}
+
+// Sides of the interface for a relative IOR eta (inside over outside) seen from wo.
+struct Indices {
+  double etaO, etaI;  // index on wo's side and on the transmitted side
+};
+Indices indicesFor(const Vec3& wo, float eta) { return wo.z > 0.0f ? Indices{1.0, eta} : Indices{eta, 1.0}; }
+
+// One lane of GlossyDielectric's value (without the weight).
+double dielectricValue(double n, const Vec3& wo, const Vec3& wi, float eta, TransportMode mode) {
+  if (!validEta(eta)) return 0.0;
+  const double fo = fresnelDielectric(wo.z, eta), fi = fresnelDielectric(wi.z, eta);
+  if (sameHemisphere(wo, wi)) return std::min(fo, fi) * reflectionLobe(n, wo, wi);
+  const Indices ix = indicesFor(wo, eta);
+  // Importance: eta_i^2 (flux conserved); Radiance: eta_o^2 (radiance / eta^2 invariant).
+  const double modeScale = mode == TransportMode::Importance ? ix.etaI * ix.etaI : ix.etaO * ix.etaO;
+  return std::min(1.0 - fo, 1.0 - fi) * modeScale * transmissionLobe(n, wo, wi, ix.etaO, ix.etaI);
+}
+
+// Density of sampling wi with lane IOR eta (GlossyDielectric) or of the reflection lobe.
+double dielectricPdf(double n, const Vec3& wo, const Vec3& wi, float eta) {
+  if (!validEta(eta)) return 0.0;
+  const double fo = fresnelDielectric(wo.z, eta);
+  const double cosI = std::fabs(double(wi.z));
+  if (sameHemisphere(wo, wi)) {
+    const double qx = double(wo.x) + wi.x, qy = double(wo.y) + wi.y;
+    return fo * kernelDensity(n, qx * qx + qy * qy) * cosI;
+  }
+  const Indices ix = indicesFor(wo, eta);
+  const double qx = ix.etaO * wo.x + ix.etaI * wi.x, qy = ix.etaO * wo.y + ix.etaI * wi.y;
+  return (1.0 - fo) * ix.etaI * ix.etaI * kernelDensity(n, qx * qx + qy * qy) * cosI;
+}
+
+// Draws a point of the kernel around `centre` (u2 -> radius, angle) and divides it by `scale`
+// (the momentum of the medium scattered into); nothing when it lands outside the unit disk.
+std::optional<Vec3> liftKernelSample(double n, double cx, double cy, double scale, Vec2 u2, float zSign) {
+  const double r = glossy::sampleKernelRadius(n, 1.0 - double(u2.x));  // 1 - u in (0, 1]
+  const double phi = kTwoPiD * double(u2.y);
+  const double x = (cx + r * std::cos(phi)) / scale, y = (cy + r * std::sin(phi)) / scale;
+  const double t2 = x * x + y * y;
+  if (!(t2 < 1.0)) return std::nullopt;  // below the horizon: no sample (pdf accounts for it)
+  const Vec3 wi(float(x), float(y), float(zSign * std::sqrt(1.0 - t2)));
+  if (degenerate(wi)) return std::nullopt;
+  return wi;
+}
+
+}  // namespace
+
+Spectrum glossyLobeEval(const Lobe& lobe, const Vec3& wo, const Vec3& wi, TransportMode mode) {
+  if (degenerate(wo) || degenerate(wi) || !validExponent(lobe.exponent)) return Spectrum();
+  const double n = lobe.exponent;
+  if (lobe.kind == LobeKind::GlossyReflection) {
+    if (!sameHemisphere(wo, wi)) return Spectrum();
+    return lobe.weight * float(reflectionLobe(n, wo, wi));
+  }
+  Spectrum f;
+  if (!lobe.etaVaries) {
+    const float v = float(dielectricValue(n, wo, wi, lobe.a.v[0], mode));
+    return lobe.weight * v;
+  }
+  for (int i = 0; i < kLanes; ++i)
+    if (lobe.weight.v[i] != 0.0f) f.v[i] = lobe.weight.v[i] * float(dielectricValue(n, wo, wi, lobe.a.v[i], mode));
+  return f;
+}
+
+float glossyLobePdfForLane(const Lobe& lobe, const Vec3& wo, const Vec3& wi, TransportMode, int lane) {
+  if (degenerate(wo) || degenerate(wi) || !validExponent(lobe.exponent) || lane < 0 || lane >= kLanes) return 0.0f;
+  const double n = lobe.exponent;
+  if (lobe.kind == LobeKind::GlossyReflection) {
+    if (!sameHemisphere(wo, wi)) return 0.0f;
+    const double qx = double(wo.x) + wi.x, qy = double(wo.y) + wi.y;
+    return float(kernelDensity(n, qx * qx + qy * qy) * std::fabs(double(wi.z)));
+  }
+  return float(dielectricPdf(n, wo, wi, lobe.a.v[lobe.etaVaries ? lane : 0]));
+}
+
+float glossyLobePdf(const Lobe& lobe, const Vec3& wo, const Vec3& wi, TransportMode mode) {
+  return glossyLobePdfForLane(lobe, wo, wi, mode, 0);
+}
+
+std::optional<BsdfSample> glossyLobeSample(const Lobe& lobe, const Vec3& wo, float uc, Vec2 u2, TransportMode mode) {
+  if (degenerate(wo) || !validExponent(lobe.exponent)) return std::nullopt;
+  const double n = lobe.exponent;
+  const float side = wo.z > 0.0f ? 1.0f : -1.0f;
+  bool transmit = false;
+  std::optional<Vec3> wi;
+  float etaScale = 1.0f;
+  if (lobe.kind == LobeKind::GlossyReflection) {
+    wi = liftKernelSample(n, -double(wo.x), -double(wo.y), 1.0, u2, side);
+  } else {
+    const float heroEta = lobe.a.v[0];
+    if (!validEta(heroEta)) return std::nullopt;
+    const double fo = fresnelDielectric(wo.z, heroEta);
+    if (uc < fo) {
+      wi = liftKernelSample(n, -double(wo.x), -double(wo.y), 1.0, u2, side);
+    } else {
+      const Indices ix = indicesFor(wo, heroEta);
+      wi = liftKernelSample(n, -ix.etaO * wo.x, -ix.etaO * wo.y, ix.etaI, u2, -side);
+      transmit = true;
+      etaScale = float(ix.etaI / ix.etaO);
+    }
+  }
+  if (!wi) return std::nullopt;
+  BsdfSample s;
+  s.wi = *wi;
+  s.pdfW = glossyLobePdf(lobe, wo, s.wi, mode);
+  if (!(s.pdfW > 0.0f) || !std::isfinite(s.pdfW)) return std::nullopt;
+  s.f = glossyLobeEval(lobe, wo, s.wi, mode);
+  s.transmission = transmit;
+  s.etaScale = etaScale;
+  // Refraction by the hero's IOR: the other lanes' lobes are elsewhere (their own values at
+  // wi are in f; spectral MIS needs glossyLobePdfForLane). Reflection is not dispersive.
+  s.dispersive = transmit && lobe.etaVaries;
+  return s;
+}
+
+float glossyReflectionAlbedo(float exponent, float cosThetaO) {
+  // Albedo(wo) = integral over the disk of p(x - c) / max(M(c), M(x)), c = -wo_t. Written
+  // over the kernel's polar coordinates around c: radial survival u in [0, 1] (the kernel's
+  // own measure) and the angle phi from the outward direction of c, over the inside arc only.
+  if (!validExponent(exponent) || !(cosThetaO > 0.0f) || cosThetaO > 1.0f) return 0.0f;
+  const double n = exponent, c = std::min(1.0, double(cosThetaO));
+  const double d = std::sqrt(std::max(0.0, (1.0 - c) * (1.0 + c)));
+  const double mo = kernelMassInDisk(n, d, 1.0);
+  if (!(mo > 0.0)) return 0.0f;
+  // Outer: u over [0, 1] with u = (1 - cos(pi t)) / 2 (nodes clustered at both ends).
+  const double sum = glossy::integrate01([&](double t) {
+    const double u = 0.5 * (1.0 - std::cos(M_PI * t));
+    const double du = 0.5 * M_PI * std::sin(M_PI * t);
+    const double r = u > 0.0 ? glossy::sampleKernelRadius(n, u) : 1.0;
+    // Inside the unit disk: |x|^2 = d^2 + r^2 + 2 d r cos(phi) < 1.
+    double phi0 = 0.0;
+    if (d * r > 0.0) {
+      const double cosLimit = (1.0 - d * d - r * r) / (2.0 * d * r);
+      if (cosLimit <= -1.0) return 0.0;  // the whole circle is outside
+      phi0 = cosLimit >= 1.0 ? 0.0 : std::acos(cosLimit);
+    } else if (r >= 1.0) {
+      return 0.0;
+    }
+    const double ring = glossy::integrate01([&](double s) {
+      const double phi = phi0 + (M_PI - phi0) * s;
+      const double x2 = d * d + r * r + 2.0 * d * r * std::cos(phi);
+      return 1.0 / std::max(mo, kernelMassInDisk(n, std::sqrt(std::max(0.0, x2)), 1.0));
+    });
+    return du * ring * (M_PI - phi0) / M_PI;
+  });
+  return float(sum);
+}
 
 }  // namespace tex::render

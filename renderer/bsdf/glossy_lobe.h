@@ -1,8 +1,11 @@
 // The glossy model (the thesis's tenth contribution; formulas and properties in
 // docs/glossy-model.md): a reciprocal, energy-conserving glossy lobe parameterised by a
-// glossiness exponent n, importance-sampled (near) exactly, around the mirror direction
+// glossiness exponent n, importance-sampled exactly, around the mirror direction
 // (GlossyReflection) and around both the mirror and the refracted direction of a dielectric
 // interface (GlossyDielectric, eta = lobe.a per wavelength; dispersive when lobe.etaVaries).
+// The lobe is the kernel (1 - |q|^2)^(n/2) of the tangential momentum mismatch
+// q = eta_o wo_t + eta_i wi_t in the projected-disk plane (renderer/bsdf/glossy_kernel.h),
+// normalised symmetrically by max(M(wo), M(wi)) (M = the kernel's share above the horizon).
 // Lobe-level entry points dispatched from lobes.cpp; conventions of bsdf.h (local frame, z up).
 #pragma once
 #include <optional>
@@ -15,11 +18,14 @@ Spectrum glossyLobeEval(const Lobe& lobe, const Vec3& wo, const Vec3& wi, Transp
 float glossyLobePdf(const Lobe& lobe, const Vec3& wo, const Vec3& wi, TransportMode mode);
 std::optional<BsdfSample> glossyLobeSample(const Lobe& lobe, const Vec3& wo, float uc, Vec2 u2, TransportMode mode);
 
-// The density glossyLobeSample would have had for wi had lane `lane`'s eta chosen it.
+// The density glossyLobeSample would have at wi had lane `lane`'s IOR been the hero's (for
+// spectral MIS over the group's wavelengths). Equals glossyLobePdf for lane 0 and for lobes
+// whose sampling does not depend on the wavelength.
 float glossyLobePdfForLane(const Lobe& lobe, const Vec3& wo, const Vec3& wi, TransportMode mode, int lane);
 
 // Directional albedo of the reflection lobe with unit weight at cos(theta_o) (for tests, docs
-// and energy bookkeeping of layers).
+// and energy bookkeeping of layers). Deterministic 3D quadrature (~2000 kernel-mass
+// evaluations): not for per-sample use.
 float glossyReflectionAlbedo(float exponent, float cosThetaO);
 
 }  // namespace tex::render
