@@ -1,0 +1,142 @@
+// Compiled .tex materials walked into native lobes (renderer/material/closure_lobes.cpp): every
+// closure kind maps to the lobe and parameters the ABI promises, mix/scale weights multiply
+// down the tree, layers put their base under the Bsdf's coat, and bad trees fail cleanly.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "renderer/material/closure_lobes.h"
+#include "renderer/material/tex_binding.h"
+
+namespace tex::render {
+namespace {
+
+struct Compiled {
+  CompiledBindings bindings;
+  std::string error;
+};
+
+Compiled compileEntries(const std::string& source, const std::vector<std::string>& entries) {
+  const auto dir = std::filesystem::temp_directory_path() / ("tex_closure_lobes_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const auto file = dir / "mats.tex";
+  std::ofstream(file) << source;
+  SceneDescription scene;
+  for (const std::string& e : entries) {
+    TexMaterialBinding b;
+    b.file = file.string();
+    b.entry = e;
+    b.matchMaterial = e;
+    scene.texMaterials.push_back(b);
+  }
+  Compiled c;
+  EXPECT_TRUE(compileBindings(scene, 4, false, false, c.bindings, c.error)) << c.error;
+  return c;
+}
+
+struct Shaded {
+  Bsdf bsdf{Frame(), Vec3(0, 0, 1)};
+  Spectrum emission;
+  ClosureEvaluation result;
+};
+
+Shaded shade(const CompiledBinding& b) {
+  Shaded s;
+  ShadingPoint p;
+  p.p = Vec3(0.1f, 0.2f, 0.3f);
+  p.ng = p.ns = Vec3(0, 0, 1);
+  p.uv = Vec2(0.25f, 0.75f);
+  const Wavelengths lambda = color::sampleWavelengthGroup(0.3f, 4);
+  s.result = evaluateBinding(b, p, lambda, s.bsdf, s.emission);
+  return s;
+}
+
+TEST(ClosureLobes, EveryKindMapsToItsLobe) {
+  const Compiled c = compileEntries(
+      "import std.spectra.{cauchy}\n"
+      "export fn rough_glass(h: Hit) -> Material = dielectric(1.5, roughness: 0.3)\n"
+      "export fn flint(h: Hit) -> Material = dielectric(cauchy(1.6, 12000.0))\n"
+      "export fn rough_metal(h: Hit) -> Material = conductor(spectrum(0.2), spectrum(3.0), roughness: 0.5)\n"
+      "export fn pane(h: Hit) -> Material = thin_dielectric(1.5)\n"
+      "export fn shiny(h: Hit) -> Material = glossy(spectrum(0.9), 1000.0)\n"
+      "export fn prism(h: Hit) -> Material = glossy_dielectric(cauchy(1.5, 8000.0), 4000.0)\n"
+      "export fn plastic(h: Hit) -> Material = layer(dielectric(1.5), diffuse(spectrum(0.5)))\n"
+      "export fn scaled(h: Hit) -> Material = scale_material(add_material(diffuse(spectrum(0.5)), emission(spectrum(2.0))), 0.5)\n",
+      {"rough_glass", "flint", "rough_metal", "pane", "shiny", "prism", "plastic", "scaled"});
+  ASSERT_EQ(c.bindings.bindings.size(), 8u);
+  const auto& b = c.bindings.bindings;
+
+  Shaded s = shade(b[0]);
+  ASSERT_TRUE(s.result.ok);
+  ASSERT_EQ(s.bsdf.lobeCount(), 1);
+  EXPECT_EQ(s.bsdf.lobe(0).kind, LobeKind::RoughDielectric);
+  EXPECT_FLOAT_EQ(s.bsdf.lobe(0).roughness, 0.3f);
+  EXPECT_FLOAT_EQ(s.bsdf.lobe(0).a.v[2], 1.5f);
+  EXPECT_FALSE(s.bsdf.lobe(0).etaVaries);
+
+  s = shade(b[1]);
+  ASSERT_EQ(s.bsdf.lobeCount(), 1);
+  EXPECT_EQ(s.bsdf.lobe(0).kind, LobeKind::SmoothDielectric);
+  EXPECT_TRUE(s.bsdf.lobe(0).etaVaries);
+  EXPECT_NE(s.bsdf.lobe(0).a.v[0], s.bsdf.lobe(0).a.v[1]);
+
+  s = shade(b[2]);
+  ASSERT_EQ(s.bsdf.lobeCount(), 1);
+  EXPECT_EQ(s.bsdf.lobe(0).kind, LobeKind::RoughConductor);
+  EXPECT_FLOAT_EQ(s.bsdf.lobe(0).b.v[1], 3.0f);
+
+  s = shade(b[3]);
+  ASSERT_EQ(s.bsdf.lobeCount(), 1);
+  EXPECT_EQ(s.bsdf.lobe(0).kind, LobeKind::ThinDielectric);
+
+  s = shade(b[4]);
+  ASSERT_EQ(s.bsdf.lobeCount(), 1);
+  EXPECT_EQ(s.bsdf.lobe(0).kind, LobeKind::GlossyReflection);
+  EXPECT_FLOAT_EQ(s.bsdf.lobe(0).exponent, 1000.0f);
+  EXPECT_FLOAT_EQ(s.bsdf.lobe(0).weight.v[3], 0.9f);
+
+  s = shade(b[5]);
+  ASSERT_EQ(s.bsdf.lobeCount(), 1);
+  EXPECT_EQ(s.bsdf.lobe(0).kind, LobeKind::GlossyDielectric);
+  EXPECT_TRUE(s.bsdf.lobe(0).etaVaries);
+
+  s = shade(b[6]);
+  ASSERT_TRUE(s.result.ok);
+  ASSERT_TRUE(s.bsdf.hasCoat());
+  EXPECT_EQ(s.bsdf.coat().kind, LobeKind::SmoothDielectric);
+  ASSERT_EQ(s.bsdf.lobeCount(), 1);
+  EXPECT_EQ(s.bsdf.lobe(0).kind, LobeKind::Lambertian);
+  EXPECT_TRUE(s.bsdf.lobe(0).underCoat);
+
+  s = shade(b[7]);
+  ASSERT_EQ(s.bsdf.lobeCount(), 1);
+  EXPECT_FLOAT_EQ(s.bsdf.lobe(0).weight.v[0], 0.25f);  // 0.5 albedo x 0.5 scale
+  EXPECT_FLOAT_EQ(s.emission.v[0], 1.0f);               // 2.0 x 0.5
+  EXPECT_TRUE(s.result.sawEmission);
+}
+
+TEST(ClosureLobes, MixWeightsMultiplyDownTheTree) {
+  const Compiled c = compileEntries(
+      "export fn m(h: Hit) -> Material = mix_material(diffuse(spectrum(1.0)), mix_material(diffuse(spectrum(1.0)), "
+      "conductor(spectrum(0.2), spectrum(3.0)), 0.25), 0.5)\n",
+      {"m"});
+  const Shaded s = shade(c.bindings.bindings[0]);
+  ASSERT_EQ(s.bsdf.lobeCount(), 3);
+  EXPECT_FLOAT_EQ(s.bsdf.lobe(0).weight.v[0], 0.5f);
+  EXPECT_FLOAT_EQ(s.bsdf.lobe(1).weight.v[0], 0.375f);
+  EXPECT_FLOAT_EQ(s.bsdf.lobe(2).weight.v[0], 0.125f);
+}
+
+TEST(ClosureLobes, UnsupportedLayersFailCleanly) {
+  // A coat must be a dielectric, and one Bsdf holds one coat: these shade black and report it.
+  const Compiled c = compileEntries(
+      "export fn bad_coat(h: Hit) -> Material = layer(diffuse(spectrum(0.5)), diffuse(spectrum(0.5)))\n"
+      "export fn nested(h: Hit) -> Material = layer(dielectric(1.5), layer(dielectric(1.3), diffuse(spectrum(0.5))))\n",
+      {"bad_coat", "nested"});
+  EXPECT_FALSE(shade(c.bindings.bindings[0]).result.ok);
+  EXPECT_FALSE(shade(c.bindings.bindings[1]).result.ok);
+}
+
+}  // namespace
+}  // namespace tex::render
