@@ -5,6 +5,8 @@
 #include <map>
 #include <sstream>
 
+#include "lang/image_table.h"
+
 namespace tex::compiler {
 
 using lang::Type;
@@ -70,6 +72,17 @@ class Canonicaliser {
     body_ << "(" << int(n->kind) << " t" << type(n->type);
     switch (n->kind) {
       case Node::Kind::Const: {
+        if (n->type->kind == lang::TypeKind::Image) {
+          // The file, not the process-specific handle: code resolves it at run time by path,
+          // and the file's size and mtime keep an edited image from matching an old key.
+          const lang::LoadedImage* image = lang::ImageTable::global().get(n->intValue);
+          if (image)
+            body_ << " image " << image->path.size() << ":" << image->path << " data" << image->data << " bytes "
+                  << image->fileBytes << " mtime " << image->mtimeNs;
+          else
+            body_ << " image ?" << n->intValue;
+          break;
+        }
         uint32_t bits[8];
         std::memcpy(bits, n->floatValue, sizeof bits);
         body_ << " i" << n->intValue << " b" << n->boolValue << " f";

@@ -17,6 +17,7 @@
 
 #include "compiler/abi.h"
 #include "compiler/canonical_ir.h"
+#include "lang/image_table.h"
 #include "lang/wavelength_dependence.h"
 
 namespace tex::compiler {
@@ -74,6 +75,7 @@ class Codegen {
       case TypeKind::Bool: return i1_;
       case TypeKind::Int: return i32_;
       case TypeKind::Material: return i32_;
+      case TypeKind::Image: return i32_;
       case TypeKind::Float: return f32_;
       case TypeKind::Vec2:
       case TypeKind::Vec3:
@@ -188,6 +190,7 @@ class Codegen {
     switch (t->kind) {
       case TypeKind::Bool: return b_.CreateICmpNE(b_.CreateLoad(i32_, wordPtr(base, word++)), b_.getInt32(0));
       case TypeKind::Int:
+      case TypeKind::Image:
       case TypeKind::Material: return b_.CreateLoad(i32_, wordPtr(base, word++));
       case TypeKind::Float: return b_.CreateLoad(f32_, wordPtr(base, word++));
       case TypeKind::Record:
@@ -210,6 +213,7 @@ class Codegen {
     switch (t->kind) {
       case TypeKind::Bool: b_.CreateStore(b_.CreateZExt(v, i32_), wordPtr(base, word++)); return;
       case TypeKind::Int:
+      case TypeKind::Image:
       case TypeKind::Material:
       case TypeKind::Float: b_.CreateStore(v, wordPtr(base, word++)); return;
       case TypeKind::Record:
@@ -255,6 +259,7 @@ class Codegen {
     const Type* t = n->type;
     if (t->kind == TypeKind::Int) return b_.getInt32(uint32_t(n->intValue));
     if (t->kind == TypeKind::Bool) return b_.getInt1(n->boolValue);
+    if (t->kind == TypeKind::Image) return imageHandle(n->intValue);
     if (t->kind == TypeKind::Float) return llvm::ConstantFP::get(f32_, double(n->floatValue[0]));
     if (t->isFloatBased()) {
       std::vector<llvm::Constant*> lanesValues;
@@ -586,6 +591,15 @@ class Codegen {
       case Prim::MatLayer:
       case Prim::MatScale:
       case Prim::MatAdd: return genMaterialNode(n, a);
+      case Prim::ImageNearest:
+      case Prim::ImageBilinear:
+      case Prim::ImageTrilinear: return genImageLookup(n, a);
+      case Prim::ImageSize: {
+        llvm::AllocaInst* out = entryAlloca(llvm::ArrayType::get(f32_, 2));
+        llvm::FunctionCallee size = runtimeFunction("tex_rt_image_size", llvm::Type::getVoidTy(context_), {i32_, ptrTy_});
+        b_.CreateCall(size, {a[0], out});
+        return b_.CreateAlignedLoad(lower(n->type), out, llvm::Align(4));
+      }
     }
     return llvm::PoisonValue::get(lower(n->type));
   }
@@ -620,6 +634,45 @@ class Codegen {
     return b_.CreateCall(append, {ctx_, node});
   }
 
+  llvm::FunctionCallee runtimeFunction(const char* name, llvm::Type* result, std::vector<llvm::Type*> params) {
+    llvm::FunctionCallee callee = module_->getOrInsertFunction(name, llvm::FunctionType::get(result, params, false));
+    if (auto* f = llvm::dyn_cast<llvm::Function>(callee.getCallee())) f->setDoesNotThrow();
+    return callee;
+  }
+
+  // An Image constant: handles are process-specific, so the code names the file and asks the
+  // runtime once per module (docs/abi.md, "Images"); the answer is cached in a global.
+  llvm::Value* imageHandle(int32_t handle) {
+    const lang::LoadedImage* image = lang::ImageTable::global().get(handle);
+    if (!image) return b_.getInt32(uint32_t(-1));
+    auto key = std::make_pair(image->path, image->data);
+    auto it = imageGlobals_.find(key);
+    if (it == imageGlobals_.end()) {
+      llvm::Constant* text = llvm::ConstantDataArray::getString(context_, image->path);
+      auto* path = new llvm::GlobalVariable(*module_, text->getType(), true, llvm::GlobalValue::PrivateLinkage, text, "image.path");
+      auto* cache = new llvm::GlobalVariable(*module_, i32_, false, llvm::GlobalValue::InternalLinkage,
+                                             b_.getInt32(uint32_t(-1)), "image.handle");
+      cache->setAlignment(llvm::Align(4));
+      it = imageGlobals_.emplace(key, std::make_pair(path, cache)).first;
+    }
+    llvm::FunctionCallee resolve = runtimeFunction("tex_rt_image_handle", i32_, {ptrTy_, i32_, ptrTy_});
+    return b_.CreateCall(resolve, {it->second.first, b_.getInt32(image->data ? 1 : 0), it->second.second});
+  }
+
+  // (image, uv, duvdx, duvdy, wrap) -> RGBA through tex_rt_image_lookup, the interpreter's code.
+  llvm::Value* genImageLookup(const Node* n, const std::vector<llvm::Value*>& a) {
+    lang::ImageFilter filter = n->prim == Prim::ImageNearest    ? lang::ImageFilter::Nearest
+                               : n->prim == Prim::ImageBilinear ? lang::ImageFilter::Bilinear
+                                                                : lang::ImageFilter::Trilinear;
+    llvm::AllocaInst* out = entryAlloca(llvm::ArrayType::get(f32_, 4));
+    llvm::FunctionCallee lookup = runtimeFunction("tex_rt_image_lookup", llvm::Type::getVoidTy(context_),
+                                                  {i32_, i32_, i32_, f32_, f32_, f32_, f32_, f32_, f32_, ptrTy_});
+    auto lane = [&](llvm::Value* v, uint64_t i) { return b_.CreateExtractElement(v, i); };
+    b_.CreateCall(lookup, {b_.getInt32(uint32_t(filter)), a[0], a[4], lane(a[1], 0), lane(a[1], 1), lane(a[2], 0),
+                           lane(a[2], 1), lane(a[3], 0), lane(a[3], 1), out});
+    return b_.CreateAlignedLoad(lower(n->type), out, llvm::Align(4));
+  }
+
   llvm::AllocaInst* entryAlloca(llvm::Type* type) {
     llvm::Function* fn = b_.GetInsertBlock()->getParent();
     llvm::IRBuilder<> entry(&fn->getEntryBlock(), fn->getEntryBlock().begin());
@@ -636,6 +689,7 @@ class Codegen {
   llvm::MDNode* likely_;         // branch weights: the first successor is the common case
   lang::ir::WavelengthDependence dependence_;  // closure flags, analysed once per compile
   std::map<FunctionKey, llvm::Function*> functions_;
+  std::map<std::pair<std::string, bool>, std::pair<llvm::GlobalVariable*, llvm::GlobalVariable*>> imageGlobals_;  // path, cache
   std::map<int, uint64_t> callSites_, ownSize_;
   std::vector<FunctionKey> pending_;
   int dependenceContext_ = -1;  // the wavelength-dependence context of the function being emitted

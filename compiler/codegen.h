@@ -32,5 +32,13 @@ std::unique_ptr<llvm::Module> generateModule(llvm::LLVMContext& context, const l
 // Appends a copy of `node` (a ClosureNode) to ctx->arena; returns its index, or -1 when there
 // is no arena or it is full (then overflow is set).
 extern "C" int32_t tex_rt_closure_append(const void* ctx, const void* node);
+// The handle of image `path` (a canonical path, NUL-terminated; `data` as image_data()), cached
+// in *cache (an int32 initialised to -1, one per image constant of a module).
+extern "C" int32_t tex_rt_image_handle(const char* path, int32_t data, int32_t* cache);
+// An image lookup (lang::imageLookup): `filter` is a lang::ImageFilter; writes RGBA to out[4].
+extern "C" void tex_rt_image_lookup(int32_t filter, int32_t handle, int32_t wrap, float u, float v, float dudx,
+                                    float dvdx, float dudy, float dvdy, float* out);
+// (width, height) of an image to out[2] (lang::imageSize).
+extern "C" void tex_rt_image_size(int32_t handle, float* out);
 
 }  // namespace tex::compiler

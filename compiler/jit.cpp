@@ -33,7 +33,7 @@ namespace tex::compiler {
 namespace {
 
 // Bump on every change to code generation: it is part of every cache key.
-constexpr const char* kCompilerVersion = "tex-compiler-11";
+constexpr const char* kCompilerVersion = "tex-compiler-12";
 
 std::string errorText(llvm::Error error) { return llvm::toString(std::move(error)); }
 
@@ -89,6 +89,12 @@ struct Engine {
     auto& es = jit->getExecutionSession();
     runtime[es.intern("tex_rt_closure_append")] = {llvm::orc::ExecutorAddr::fromPtr(&tex_rt_closure_append),
                                                    llvm::JITSymbolFlags::Exported | llvm::JITSymbolFlags::Callable};
+    auto bind = [&](const char* name, auto* fn) {
+      runtime[es.intern(name)] = {llvm::orc::ExecutorAddr::fromPtr(fn), llvm::JITSymbolFlags::Exported | llvm::JITSymbolFlags::Callable};
+    };
+    bind("tex_rt_image_handle", &tex_rt_image_handle);
+    bind("tex_rt_image_lookup", &tex_rt_image_lookup);
+    bind("tex_rt_image_size", &tex_rt_image_size);
     if (auto err = main.define(llvm::orc::absoluteSymbols(std::move(runtime)))) error = errorText(std::move(err));
   }
 };
@@ -200,6 +206,7 @@ size_t wordCount(const lang::Type* type, int wavelengths) {
     case lang::TypeKind::Bool:
     case lang::TypeKind::Int:
     case lang::TypeKind::Material:
+    case lang::TypeKind::Image:
     case lang::TypeKind::Float: return 1;
     case lang::TypeKind::Spectrum: return size_t(wavelengths);
     case lang::TypeKind::Record:

@@ -1,9 +1,11 @@
 // Functions compiled code calls back into: building the Material closure tree in the
-// caller's arena (docs/abi.md, "Materials").
+// caller's arena (docs/abi.md, "Materials"), and image lookups (docs/abi.md, "Images").
+#include <atomic>
 #include <cstring>
 
 #include "compiler/abi.h"
 #include "compiler/codegen.h"
+#include "lang/image_table.h"
 
 namespace tex::compiler {
 
@@ -23,5 +25,23 @@ extern "C" int32_t tex_rt_closure_append(const void* rawCtx, const void* node) {
   std::memcpy(&copy, node, sizeof copy);  // the caller's buffer is a word array, not a ClosureNode
   return appendNode(static_cast<const ShadingContext*>(rawCtx), copy);
 }
+
+// Handles are process-specific, so compiled (and cached) code names images by path and
+// resolves each once per loaded module; threads racing here store the same value.
+extern "C" int32_t tex_rt_image_handle(const char* path, int32_t data, int32_t* cache) {
+  std::atomic_ref<int32_t> slot(*cache);
+  int32_t handle = slot.load(std::memory_order_acquire);
+  if (handle >= 0) return handle;
+  handle = lang::ImageTable::global().resolve(path, data != 0);
+  if (handle >= 0) slot.store(handle, std::memory_order_release);
+  return handle;
+}
+
+extern "C" void tex_rt_image_lookup(int32_t filter, int32_t handle, int32_t wrap, float u, float v, float dudx,
+                                    float dvdx, float dudy, float dvdy, float* out) {
+  lang::imageLookup(handle, lang::ImageFilter(filter), wrap, u, v, dudx, dvdx, dudy, dvdy, out);
+}
+
+extern "C" void tex_rt_image_size(int32_t handle, float* out) { lang::imageSize(handle, out); }
 
 }  // namespace tex::compiler

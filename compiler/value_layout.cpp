@@ -67,7 +67,8 @@ std::shared_ptr<const lang::MaterialNode> materialFromArena(const ClosureArena* 
 void flatten(const Value& value, const Type* type, int wavelengths, std::vector<uint32_t>& words) {
   switch (type->kind) {
     case TypeKind::Bool:
-    case TypeKind::Int: words.push_back(uint32_t(value.i)); return;
+    case TypeKind::Int:
+    case TypeKind::Image: words.push_back(uint32_t(value.i)); return;
     case TypeKind::Material: words.push_back(uint32_t(-1)); return;  // materials are outputs only
     case TypeKind::Record:
     case TypeKind::Lambda:
@@ -83,7 +84,8 @@ static Value unflattenAt(const uint32_t* words, size_t& at, const Type* type, in
   Value v;
   switch (type->kind) {
     case TypeKind::Bool: v.i = words[at++] != 0; return v;
-    case TypeKind::Int: v.i = int32_t(words[at++]); return v;
+    case TypeKind::Int:
+    case TypeKind::Image: v.i = int32_t(words[at++]); return v;
     case TypeKind::Material: v.material = materialFromArena(arena, int32_t(words[at++]), wavelengths, 0); return v;
     case TypeKind::Record:
     case TypeKind::Lambda: {

@@ -49,15 +49,15 @@ struct FieldInit {
 
 struct Expr {
   enum class Kind {
-    IntLit, FloatLit, BoolLit, Name, Unary, Binary, Call, Field, Let, If, Lambda, Record,
+    IntLit, FloatLit, BoolLit, StringLit, Name, Unary, Binary, Call, Field, Let, If, Lambda, Record,
     RecordUpdate
   } kind;
   Span span;
-  // literals
+  // literals (StringLit: intValue 1 marks a malformed literal the lexer reported)
   int64_t intValue = 0;
   float floatValue = 0;
   bool boolValue = false;
-  // Name / Field / Let: the identifier
+  // Name / Field / Let: the identifier; StringLit: the text between the quotes
   std::string name;
   Span nameSpan;
   // operators

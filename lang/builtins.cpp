@@ -7,6 +7,7 @@
 #include <map>
 
 #include "lang/checker_builder.h"
+#include "lang/image_table.h"
 
 namespace tex::lang {
 
@@ -31,7 +32,8 @@ const std::set<std::string>& otherBuiltins() {
       "dot", "length", "distance", "normalize", "cross", "float", "int", "is_nan", "is_inf",
       "vec2", "vec3", "vec4", "rgb", "color", "luminance", "spectrum", "fold", "diffuse",
       "emission", "mix_material", "dielectric", "conductor", "thin_dielectric", "glossy", "glossy_dielectric",
-      "layer", "scale_material", "add_material"};
+      "layer", "scale_material", "add_material", "image", "image_data", "image_size", "sample", "sample_nearest",
+      "sample_alpha", "sample_filtered"};
   return names;
 }
 
@@ -59,7 +61,8 @@ bool isBuiltinFunction(const std::string& name) {
 }
 
 bool isBuiltinConstant(const std::string& name) {
-  return name == "pi" || name == "tau" || name == "inf" || name == "nan" || name == "lambda_nm";
+  return name == "pi" || name == "tau" || name == "inf" || name == "nan" || name == "lambda_nm" || name == "wrap_repeat" ||
+         name == "wrap_clamp" || name == "wrap_mirror";
 }
 
 Node* Builder::builtinConstant(const std::string& name, Span span) {
@@ -67,6 +70,9 @@ Node* Builder::builtinConstant(const std::string& name, Span span) {
   if (name == "tau") return constFloat(6.28318530717958647692f, span);
   if (name == "inf") return constFloat(std::numeric_limits<float>::infinity(), span);
   if (name == "nan") return constFloat(std::numeric_limits<float>::quiet_NaN(), span);
+  if (name == "wrap_repeat") return constInt(int32_t(ImageWrap::Repeat), span);
+  if (name == "wrap_clamp") return constInt(int32_t(ImageWrap::Clamp), span);
+  if (name == "wrap_mirror") return constInt(int32_t(ImageWrap::Mirror), span);
   return prim(Prim::Wavelengths, types.spectrum(), {}, span);  // lambda_nm
 }
 
@@ -380,6 +386,7 @@ Node* Builder::builtinCall(const std::string& name, std::vector<TypedArg> args, 
     if (!arity(3)) return noOverload(expected);
     return material(Prim::MatMix, {materialArg(0), materialArg(1), scalar(2)}, expected);
   }
+  if (Node* n = imageBuiltin(name, args, calleeSpan, callSpan)) return n;
   if (name == "fold") {
     if (!arity(3) || kind(0) != TypeKind::Int) return noOverload("(n: Int, init, f: (acc, Int) -> acc)");
     Node* f = args[2].node;

@@ -154,6 +154,10 @@ Node* Builder::check(const Expr* e) {
     case Expr::Kind::IntLit: return constInt(int32_t(e->intValue), e->span);
     case Expr::Kind::FloatLit: return constFloat(e->floatValue, e->span);
     case Expr::Kind::BoolLit: return constBool(e->boolValue, e->span);
+    case Expr::Kind::StringLit:
+      if (e->intValue) return errorNode(e->span);
+      error("E0416", e->span, "a string literal is not a value", "strings are only the path argument of image() and image_data()");
+      return errorNode(e->span);
     case Expr::Kind::Name: return checkName(e);
     case Expr::Kind::Unary: return checkUnary(e);
     case Expr::Kind::Binary: return checkBinary(e);
@@ -307,6 +311,8 @@ Node* Builder::checkCall(const Expr* e) {
               "build records with a literal: {field: value}");
         return errorNode(e->span);
       }
+    } else if (callee->name == "image" || callee->name == "image_data") {
+      return imageCall(callee->name, e, callee->span);
     } else if (isBuiltinFunction(callee->name)) {
       return builtinCall(callee->name, checkArgs(e), callee->span, e->span);
     }
@@ -861,7 +867,7 @@ const Type* Session::Impl::resolveType(const TypeExpr* t, ModuleInfo* module, in
       static const std::map<std::string, TypeKind> builtin = {
           {"Bool", TypeKind::Bool},   {"Int", TypeKind::Int},     {"Float", TypeKind::Float},
           {"Vec2", TypeKind::Vec2},   {"Vec3", TypeKind::Vec3},   {"Vec4", TypeKind::Vec4},
-          {"Color", TypeKind::Color}, {"Spectrum", TypeKind::Spectrum}, {"Material", TypeKind::Material}};
+          {"Color", TypeKind::Color}, {"Spectrum", TypeKind::Spectrum}, {"Material", TypeKind::Material}, {"Image", TypeKind::Image}};
       if (const Symbol* sym = lookupSymbol(module, t->name)) {
         if (sym->kind == Symbol::Kind::TypeAlias)
           return resolveType(sym->typeItem->resultType, sym->owner, depth + 1);
@@ -870,7 +876,7 @@ const Type* Session::Impl::resolveType(const TypeExpr* t, ModuleInfo* module, in
       if (auto it = builtin.find(t->name); it != builtin.end()) return types.basic(it->second);
       if (t->name == "Hit") return types.hit();
       error("E0310", t->span, "unknown type '" + t->name + "'",
-            "types are Bool, Int, Float, Vec2, Vec3, Vec4, Color, Spectrum, Material, Hit, records and aliases");
+            "types are Bool, Int, Float, Vec2, Vec3, Vec4, Color, Spectrum, Material, Image, Hit, records and aliases");
       return types.error();
     }
     case TypeExpr::Kind::Record: {

@@ -64,6 +64,10 @@ class Builder {
   bool orderBuiltinArgs(const std::string& name, const std::vector<BuiltinParam>& params, std::vector<TypedArg>& args,
                         Span calleeSpan, Span callSpan);
   ir::Node* builtinConstant(const std::string& name, Span span);
+  // image("path") and image_data("path"): loads the file at check time (image_builtins.cpp).
+  ir::Node* imageCall(const std::string& name, const Expr* call, Span calleeSpan);
+  // sample, sample_nearest, sample_alpha, sample_filtered, image_size; null if `name` is none.
+  ir::Node* imageBuiltin(const std::string& name, std::vector<TypedArg>& args, Span calleeSpan, Span callSpan);
 
   Diagnostic* error(const std::string& code, Span span, std::string message, std::string help = {});
 

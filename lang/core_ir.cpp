@@ -14,8 +14,9 @@ const char* primName(Prim p) {
       "inot", "imin", "imax", "iabs", "ilt", "ile", "igt", "ige", "ieq", "ine",
       "bnot", "beq", "bne", "itof", "ftoi", "splat", "concat", "swizzle", "dot", "wavelengths",
       "mat_diffuse", "mat_emission", "mat_mix", "mat_dielectric", "mat_conductor", "mat_thin_dielectric",
-      "mat_glossy", "mat_glossy_dielectric", "mat_layer", "mat_scale", "mat_add"};
-  static_assert(sizeof(names) / sizeof(names[0]) == size_t(Prim::MatAdd) + 1, "primName table out of date");
+      "mat_glossy", "mat_glossy_dielectric", "mat_layer", "mat_scale", "mat_add",
+      "image_nearest", "image_bilinear", "image_trilinear", "image_size"};
+  static_assert(sizeof(names) / sizeof(names[0]) == size_t(Prim::ImageSize) + 1, "primName table out of date");
   return names[size_t(p)];
 }
 

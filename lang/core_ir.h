@@ -49,6 +49,10 @@ enum class Prim : uint8_t {
   MatLayer,             // (coat: Material, base: Material) -> Material
   MatScale,             // (m: Material, w: Color|Spectrum) -> Material
   MatAdd,               // (Material, Material) -> Material
+  // image textures (lang/image_table.h): (Image, uv: Vec2, duvdx: Vec2, duvdy: Vec2, wrap: Int)
+  // -> Vec4 RGBA; the nearest and bilinear lookups ignore the derivatives
+  ImageNearest, ImageBilinear, ImageTrilinear,
+  ImageSize,  // Image -> Vec2 (width, height in texels)
 };
 
 // How a material primitive's operands fill a closure node (docs/abi.md, "Materials"): first
@@ -76,7 +80,7 @@ const char* primName(Prim p);
 
 struct Node {
   enum class Kind : uint8_t {
-    Const,      // constant: type + value fields
+    Const,      // constant: type + value fields (an Image constant's intValue is its handle)
     Local,      // slot
     Let,        // slot = args[0]; value of args[1]
     If,         // args[0] ? args[1] : args[2]

@@ -4,6 +4,7 @@
 #include <limits>
 #include <memory>
 
+#include "lang/image_table.h"
 #include "lang/wavelength_dependence.h"
 
 namespace tex::lang {
@@ -256,6 +257,25 @@ class Interpreter {
       case Prim::MatLayer:
       case Prim::MatScale:
       case Prim::MatAdd: return material(n, slots);
+      case Prim::ImageNearest:
+      case Prim::ImageBilinear:
+      case Prim::ImageTrilinear: {
+        // The same C++ lookup the JIT calls (compiler/runtime_functions.cpp).
+        int32_t image = eval(n->args[0], slots).i;
+        Value uv = eval(n->args[1], slots), dx = eval(n->args[2], slots), dy = eval(n->args[3], slots);
+        int32_t wrap = eval(n->args[4], slots).i;
+        ImageFilter filter = n->prim == Prim::ImageNearest    ? ImageFilter::Nearest
+                             : n->prim == Prim::ImageBilinear ? ImageFilter::Bilinear
+                                                              : ImageFilter::Trilinear;
+        Value r;
+        imageLookup(image, filter, wrap, uv.f[0], uv.f[1], dx.f[0], dx.f[1], dy.f[0], dy.f[1], r.f);
+        return r;
+      }
+      case Prim::ImageSize: {
+        Value r;
+        imageSize(eval(n->args[0], slots).i, r.f);
+        return r;
+      }
     }
     return {};
   }

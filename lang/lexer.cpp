@@ -15,6 +15,7 @@ const char* tokenName(Tok kind) {
     case Tok::Ident: return "identifier";
     case Tok::Int: return "integer literal";
     case Tok::Float: return "float literal";
+    case Tok::String: return "string literal";
     case Tok::KwFn: return "'fn'";
     case Tok::KwLet: return "'let'";
     case Tok::KwIn: return "'in'";
@@ -214,6 +215,7 @@ class Lexer {
       case '%': return make(Tok::Percent, begin);
       case '~': return make(Tok::Tilde, begin);
       case '^': return make(Tok::Caret, begin);
+      case '"': return stringLiteral(begin);
       case '.':
         if (isDigit(peek(0))) {
           while (pos_ < text_.size() && isIdentChar(text_[pos_])) ++pos_;
@@ -269,6 +271,25 @@ class Lexer {
     }
     diags_.error("E0102", span(begin, pos_), "unexpected " + what,
                  static_cast<unsigned char>(c) >= 0x80 ? "non-ASCII characters are allowed only in comments" : "");
+  }
+
+  // A string literal: one line, no escapes (a backslash is refused so that escapes can come
+  // later without changing the meaning of existing programs).
+  Token stringLiteral(size_t begin) {
+    while (pos_ < text_.size() && text_[pos_] != '"' && text_[pos_] != '\n' && text_[pos_] != '\\') ++pos_;
+    if (pos_ < text_.size() && text_[pos_] == '"') {
+      ++pos_;
+      return make(Tok::String, begin);
+    }
+    bool backslash = pos_ < text_.size() && text_[pos_] == '\\';
+    diags_.error("E0106", span(begin, pos_), backslash ? "escape sequences are not supported in string literals"
+                                                        : "unterminated string literal",
+                 backslash ? "write paths with '/'" : "close the string with '\"' on the same line");
+    while (pos_ < text_.size() && text_[pos_] != '"' && text_[pos_] != '\n') ++pos_;
+    if (pos_ < text_.size() && text_[pos_] == '"') ++pos_;
+    Token t = make(Tok::String, begin);
+    t.intValue = 1;  // reported: later stages stay quiet about it
+    return t;
   }
 
   Token number() {

@@ -522,6 +522,13 @@ class Parser {
         e->floatValue = t.floatValue;
         return e;
       }
+      case Tok::String: {
+        advance();
+        Expr* e = module_->newExpr(Expr::Kind::StringLit, s);
+        e->intValue = t.intValue;  // 1: malformed, already reported
+        e->name = s.end - s.begin >= 2 ? std::string(s.file->text.substr(s.begin + 1, s.end - s.begin - 2)) : std::string();
+        return e;
+      }
       case Tok::KwTrue:
       case Tok::KwFalse: {
         advance();

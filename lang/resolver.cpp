@@ -39,7 +39,8 @@ class Resolver {
     switch (e->kind) {
       case Expr::Kind::IntLit:
       case Expr::Kind::FloatLit:
-      case Expr::Kind::BoolLit: return;
+      case Expr::Kind::BoolLit:
+      case Expr::Kind::StringLit: return;
       case Expr::Kind::Name: name(e->name, e->nameSpan, true); return;
       case Expr::Kind::Unary: expr(e->a); return;
       case Expr::Kind::Binary: expr(e->a); expr(e->b); return;

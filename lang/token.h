@@ -8,6 +8,7 @@ namespace tex::lang {
 enum class Tok : uint8_t {
   End, Error,
   Ident, Int, Float,
+  String,  // "...": only as the path argument of image() and image_data()
   // keywords
   KwFn, KwLet, KwIn, KwIf, KwElse, KwImport, KwExport, KwAs, KwType, KwTrue, KwFalse, KwWith,
   // punctuation
@@ -21,7 +22,7 @@ enum class Tok : uint8_t {
 struct Token {
   Tok kind = Tok::End;
   uint32_t begin = 0, end = 0;  // byte offsets into the file
-  int64_t intValue = 0;        // Tok::Int (may be 2147483648, see docs/language.md)
+  int64_t intValue = 0;        // Tok::Int (may be 2147483648, see docs/language.md); Tok::String: 1 if malformed
   float floatValue = 0;        // Tok::Float
 };
 

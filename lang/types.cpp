@@ -31,7 +31,7 @@ TypeTable& TypeTable::global() {
 }
 
 TypeTable::TypeTable() {
-  for (int k = 0; k <= int(TypeKind::Material); ++k) {
+  for (int k = 0; k <= int(TypeKind::Image); ++k) {
     Type t;
     t.kind = TypeKind(k);
     basic_.push_back(t);
@@ -146,6 +146,7 @@ static std::string typeNameUnbounded(const Type* t, int depth) {
     case TypeKind::Color: return "Color";
     case TypeKind::Spectrum: return "Spectrum";
     case TypeKind::Material: return "Material";
+    case TypeKind::Image: return "Image";
     case TypeKind::Record: {
       if (t == TypeTable::global().hit()) return "Hit";
       std::string s = "{";

@@ -14,6 +14,7 @@ struct FunctionDecl;
 enum class TypeKind {
   Error,  // after a reported error; suppresses follow-on errors
   Bool, Int, Float, Vec2, Vec3, Vec4, Color, Spectrum, Material,
+  Image,       // an image texture: an int32 handle into lang::ImageTable (lang/image_table.h)
   Record,      // fields sorted by name
   Function,    // an annotation `(A, B) -> R`; values of it are callables checked at application
   FuncRef,     // a named module-level function as a value (no runtime data)
@@ -59,6 +60,7 @@ class TypeTable {
   const Type* color() { return basic(TypeKind::Color); }
   const Type* spectrum() { return basic(TypeKind::Spectrum); }
   const Type* material() { return basic(TypeKind::Material); }
+  const Type* image() { return basic(TypeKind::Image); }
   const Type* basic(TypeKind kind);
   const Type* record(std::vector<std::pair<std::string, const Type*>> fields);  // sorts them
   const Type* function(std::vector<const Type*> params, const Type* result);

@@ -2,8 +2,10 @@
 
 #include <charconv>
 #include <cmath>
+#include <filesystem>
 
 #include "lang/core_ir.h"
+#include "lang/image_table.h"
 
 namespace tex::lang {
 
@@ -61,6 +63,13 @@ std::string formatValue(const Value& v, const Type* t, const WavelengthGroup& gr
     case TypeKind::Color: return lanes("rgb", v, 3);
     case TypeKind::Spectrum: return lanes("spectrum", v, group.count);
     case TypeKind::Material: return formatMaterial(v.material.get(), group);
+    case TypeKind::Image: {
+      // The file name and size: the handle is process-specific and the full path machine-specific.
+      const LoadedImage* image = ImageTable::global().get(v.i);
+      if (!image) return "<image>";
+      std::string name = std::filesystem::path(image->path).filename().string();
+      return "<image " + name + " " + std::to_string(image->levels[0].width) + "x" + std::to_string(image->levels[0].height) + ">";
+    }
     case TypeKind::Record: {
       std::string s = "{";
       for (size_t i = 0; i < t->fields.size(); ++i) {
