@@ -1,6 +1,7 @@
 #include "renderer/material/closure_lobes.h"
 
 #include <array>
+#include <cmath>
 
 #include "renderer/spectra/rgb_spectrum.h"
 
@@ -136,13 +137,21 @@ struct Walker {
         // The coat must be a dielectric interface (smooth or rough); the base's lobes are
         // attenuated by its Fresnel transmission (Bsdf::setCoat, docs/layering.md).
         const int32_t c = node.a;
-        if (c < 0 || c >= arena.count || arena.nodes[c].kind != compiler::ClosureKind::Dielectric || underCoat) {
-          result.ok = false;  // layers of other coats, or nested coats, are not supported yet
+        const bool dielectricCoat = c >= 0 && c < arena.count &&
+                                    (arena.nodes[c].kind == compiler::ClosureKind::Dielectric ||
+                                     arena.nodes[c].kind == compiler::ClosureKind::GlossyDielectric);
+        if (!dielectricCoat || underCoat) {
+          result.ok = false;  // coats of other kinds, or nested coats, are not supported yet
           return;
         }
         const compiler::ClosureNode& coatNode = arena.nodes[c];
         Lobe coat;
-        const float roughness = roughnessOf(coatNode);
+        // A glossy-model coat is layered as the GGX coat of matching width (alpha =
+        // sqrt(2 / (n + 2)), the usual Phong-to-Beckmann/GGX correspondence): the layering's
+        // energy bookkeeping is written for the GGX interface (docs/layering.md).
+        const float roughness = coatNode.kind == compiler::ClosureKind::GlossyDielectric
+                                    ? std::sqrt(2.0f / (std::max(coatNode.scalars[0], 0.0f) + 2.0f))
+                                    : roughnessOf(coatNode);
         coat.kind = roughness > 0.0f ? LobeKind::RoughDielectric : LobeKind::SmoothDielectric;
         coat.roughness = roughness;
         coat.weight = weight;

@@ -140,3 +140,20 @@ TEST(ClosureLobes, UnsupportedLayersFailCleanly) {
 
 }  // namespace
 }  // namespace tex::render
+
+namespace tex::render {
+namespace {
+
+TEST(ClosureLobes, GlossyCoatLayersAsTheMatchingGgxCoat) {
+  const Compiled c = compileEntries(
+      "export fn m(h: Hit) -> Material = layer(glossy_dielectric(1.5, 98.0), diffuse(spectrum(0.5)))\n", {"m"});
+  const Shaded s = shade(c.bindings.bindings[0]);
+  ASSERT_TRUE(s.result.ok);
+  ASSERT_TRUE(s.bsdf.hasCoat());
+  EXPECT_EQ(s.bsdf.coat().kind, LobeKind::RoughDielectric);
+  EXPECT_FLOAT_EQ(s.bsdf.coat().roughness, std::sqrt(2.0f / 100.0f));
+  EXPECT_TRUE(s.bsdf.lobe(0).underCoat);
+}
+
+}  // namespace
+}  // namespace tex::render
