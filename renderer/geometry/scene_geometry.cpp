@@ -2,6 +2,8 @@
 
 #include <embree3/rtcore.h>
 
+#include "renderer/geometry/alpha_test.h"
+
 #include <cmath>
 #include <cstring>
 #include <mutex>
@@ -35,6 +37,7 @@ struct SceneGeometry::Impl {
   std::vector<RTCScene> childScenes;  // per primitive (instanced ones only)
   std::vector<Instance> instances;
   std::vector<int> instanceOfTopGeometry;  // Embree top-level geomID -> instance
+  std::vector<std::unique_ptr<AlphaTest>> alphaTests;  // per primitive with a cut-out material
 
   ~Impl() {
     for (RTCScene s : childScenes)
@@ -57,8 +60,21 @@ struct SceneGeometry::Impl {
     }
     std::memcpy(v, positions.data(), positions.size() * sizeof(Vec3));
     std::memcpy(idx, indices.data(), indices.size() * sizeof(uint32_t));
-    rtcCommitGeometry(g);
     return g;
+  }
+
+  // Cut-out (alphaMode MASK) and blended (BLEND) glTF materials: Embree's filter functions
+  // make rays (closest-hit and shadow alike) pass through the transparent parts.
+  void attachAlphaTest(RTCGeometry g, int primitive) {
+    const MeshPrimitive& prim = scene->primitives[size_t(primitive)];
+    if (prim.material < 0 || size_t(prim.material) >= scene->materials.size()) return;
+    const GltfMaterial& m = scene->materials[size_t(prim.material)];
+    if (m.alphaMode == GltfMaterial::AlphaMode::Opaque) return;
+    auto test = std::make_unique<AlphaTest>(*scene, prim, m);
+    rtcSetGeometryUserData(g, test.get());
+    rtcSetGeometryIntersectFilterFunction(g, AlphaTest::embreeFilter);
+    rtcSetGeometryOccludedFilterFunction(g, AlphaTest::embreeFilter);
+    alphaTests.push_back(std::move(test));
   }
 
   const Vec3* positionsOf(const Instance& inst) const {
@@ -126,6 +142,8 @@ std::unique_ptr<SceneGeometry> SceneGeometry::build(const SceneDescription& scen
       }
       RTCGeometry g = im.makeTriangles(inst.worldPositions, prim.indices);
       if (!g) break;
+      im.attachAlphaTest(g, desc.primitive);
+      rtcCommitGeometry(g);
       geomId = rtcAttachGeometry(im.top, g);
       rtcReleaseGeometry(g);
     } else {
@@ -136,6 +154,8 @@ std::unique_ptr<SceneGeometry> SceneGeometry::build(const SceneDescription& scen
         rtcSetSceneBuildQuality(child, RTC_BUILD_QUALITY_HIGH);
         RTCGeometry g = im.makeTriangles(prim.positions, prim.indices);
         if (!g) break;
+        im.attachAlphaTest(g, desc.primitive);
+        rtcCommitGeometry(g);
         rtcAttachGeometry(child, g);
         rtcReleaseGeometry(g);
         rtcCommitScene(child);
