@@ -278,6 +278,13 @@ void SceneGeometry::fillHit(int instance, uint32_t triangle, float b1, float b2,
     const float nl = glm::length(nWorld);
     if (nl > 0.0f && std::isfinite(nl)) hit.ns = nWorld / nl;
   }
+  hit.tangent = Vec4(0.0f);
+  if (!prim.tangents.empty()) {
+    const Vec4 t = prim.tangents[vi[0]] * b0 + prim.tangents[vi[1]] * b1 + prim.tangents[vi[2]] * b2;
+    const Vec3 tw = glm::mat3(inst.toWorld) * Vec3(t);
+    const float tl = glm::length(tw);
+    if (tl > 0.0f && std::isfinite(tl)) hit.tangent = Vec4(tw / tl, prim.tangents[vi[0]].w < 0.0f ? -1.0f : 1.0f);
+  }
   hit.uv = Vec2(0.0f);
   hit.dpdu = hit.dpdv = Vec3(0.0f);
   if (!prim.uv0.empty()) {

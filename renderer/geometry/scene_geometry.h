@@ -25,6 +25,7 @@ struct SurfaceHit {
   Vec3 ns{0.0f};       // unit shading normal (interpolated vertex normals, or ng)
   Vec2 uv{0.0f};       // TEXCOORD_0 (0 when absent)
   Vec3 dpdu{0.0f}, dpdv{0.0f};  // position derivatives w.r.t. uv (0 when uv is degenerate)
+  Vec4 tangent{0.0f};  // glTF TANGENT interpolated (xyz world, w handedness); 0 when absent
   int instance = -1;   // SceneDescription::instances index
   int primitive = -1;  // SceneDescription::primitives index
   uint32_t triangle = 0;  // triangle within the primitive

@@ -32,6 +32,8 @@ ShadingPoint RenderScene::shadingPoint(const SurfaceHit& hit) {
   sp.ns = hit.ns;
   sp.uv = hit.uv;
   sp.dpdu = hit.dpdu;
+  sp.dpdv = hit.dpdv;
+  sp.tangent = hit.tangent;
   return sp;
 }
 

@@ -40,9 +40,42 @@ Spectrum gltfEmission(const SceneDescription& scene, const GltfMaterial& m, cons
   return rgbIlluminantSpectrum(e, lambda);
 }
 
+Vec3 normalMappedNormal(const SceneDescription& scene, const GltfMaterial& m, const ShadingPoint& point, Vec3& tangentOut) {
+  const Vec3 n = point.ns;
+  tangentOut = point.dpdu;
+  if (m.normalTexture.image < 0) return n;
+  // Tangent frame (glTF: bitangent = cross(normal, tangent) * w). Without a TANGENT attribute,
+  // the tangent follows increasing u and the bitangent decreasing v (glTF's uv origin is the
+  // image's top-left corner, and normal maps have +Y up).
+  Vec3 t = Vec3(point.tangent);
+  float w = point.tangent.w;
+  if (w == 0.0f) {
+    t = point.dpdu;
+    w = dot3(glm::cross(n, t), -point.dpdv) >= 0.0f ? 1.0f : -1.0f;
+  }
+  t -= n * dot3(n, t);
+  const float tl = glm::length(t);
+  if (!(tl > 1e-8f)) return n;
+  t /= tl;
+  const Vec3 b = glm::cross(n, t) * w;
+  const Vec4 texel = lookupTexture(scene, m.normalTexture, point.uv, point.uv, false, Vec4(0.5f, 0.5f, 1.0f, 1.0f));
+  const Vec3 local = Vec3((texel.x * 2.0f - 1.0f) * m.normalScale, (texel.y * 2.0f - 1.0f) * m.normalScale, texel.z * 2.0f - 1.0f);
+  Vec3 mapped = t * local.x + b * local.y + n * local.z;
+  const float ml = glm::length(mapped);
+  if (!(ml > 1e-8f) || !std::isfinite(ml)) return n;
+  mapped /= ml;
+  tangentOut = t;
+  return mapped;
+}
+
 void shadeGltfMaterial(const SceneDescription& scene, const GltfMaterial& m, const ShadingPoint& point,
                        const Wavelengths& lambda, Bsdf& bsdf, Spectrum& emission) {
   emission = gltfEmission(scene, m, point, lambda);
+  if (m.normalTexture.image >= 0) {
+    Vec3 tangent;
+    const Vec3 n = normalMappedNormal(scene, m, point, tangent);
+    bsdf = Bsdf(Frame::fromNormalTangent(n, tangent), bsdf.geometricNormal());
+  }
   const Vec3 base = glm::clamp(baseColorAt(scene, m, point), Vec3(0.0f), Vec3(1.0f));
   const Vec4 mr = lookupTexture(scene, m.metallicRoughnessTexture, point.uv, point.uv, false);
   const float metal = std::clamp(m.metallicFactor * mr.z, 0.0f, 1.0f);

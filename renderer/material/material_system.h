@@ -25,7 +25,8 @@ struct MaterialOptions {
 struct ShadingPoint {
   Vec3 p, ng, ns;  // position, geometric and shading normals (world, unit)
   Vec2 uv{0.0f};
-  Vec3 dpdu{0.0f};
+  Vec3 dpdu{0.0f}, dpdv{0.0f};
+  Vec4 tangent{0.0f};  // glTF tangent (w: handedness), 0 when the mesh has none
 };
 
 struct CompileReport {
