@@ -143,6 +143,12 @@ Spectrum PathTracer::radiance(uint64_t index, const Ray& primary, Wavelengths& l
     Spectrum Le;
     const int material = materials.materialOfPrimitive(hit.primitive);
     if (!materials.shade(material, sp, lambda, bsdf, Le)) ++counters.materialFailures;
+    // A ray that reaches a surface from its back travelled inside that object: absorb along
+    // the segment (closed, non-nested volumes; KHR_materials_volume).
+    if (dot3(ray.direction, hit.ng) > 0.0f) {
+      Spectrum sigmaA;
+      if (materials.interiorAbsorption(material, lambda, sigmaA)) beta *= exp(sigmaA * -hit.t);
+    }
 
     // Emission seen by this path: MIS against the light sampling of the previous vertex.
     if (!Le.isBlack() && (dot3(wo, hit.ng) > 0.0f || materials.emitsBothSides(material))) {

@@ -1,6 +1,7 @@
 #include "renderer/material/material_system.h"
 
 #include <atomic>
+#include <cmath>
 
 #include "renderer/material/closure_lobes.h"
 #include "renderer/material/gltf_material.h"
@@ -150,6 +151,20 @@ bool MaterialSystem::emitsBothSides(int material) const {
   const Impl& im = *impl_;
   const int s = im.slot(material);
   return im.gltf(s) && im.bindingOfMaterial[size_t(s)] < 0 && im.gltf(s)->doubleSided;
+}
+
+bool MaterialSystem::interiorAbsorption(int material, const Wavelengths& lambda, Spectrum& sigmaA) const {
+  const Impl& im = *impl_;
+  const int s = im.slot(material);
+  const GltfMaterial* m = im.gltf(s);
+  if (!m || im.bindingOfMaterial[size_t(s)] >= 0 || !(m->thicknessFactor > 0.0f) || !(m->attenuationDistance > 0.0f) ||
+      !std::isfinite(m->attenuationDistance))
+    return false;
+  const Spectrum c = rgbReflectanceSpectrum(glm::clamp(m->attenuationColor, Vec3(0.0f), Vec3(1.0f)), lambda);
+  sigmaA = Spectrum();
+  for (int i = 0; i < lambda.count; ++i)
+    sigmaA.v[i] = c.v[i] > 0.0f ? -std::log(c.v[i]) / m->attenuationDistance : 1e30f;
+  return true;
 }
 
 int MaterialSystem::materialOfPrimitive(int primitive) const {

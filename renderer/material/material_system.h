@@ -54,6 +54,10 @@ class MaterialSystem {
   Spectrum emission(int material, const ShadingPoint& point, const Wavelengths& lambda) const;
   bool isEmissive(int material) const;
   bool emitsBothSides(int material) const;
+  // Beer-Lambert absorption inside a closed object of this material (KHR_materials_volume:
+  // transmittance attenuationColor^(d / attenuationDistance)): the absorption coefficient per
+  // wavelength, per metre of path. False for materials without a volume.
+  bool interiorAbsorption(int material, const Wavelengths& lambda, Spectrum& sigmaA) const;
   // A scalar proxy of the average emitted radiance (for choosing lights by power).
   float averageEmission(int material) const;
 
