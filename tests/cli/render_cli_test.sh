@@ -1,0 +1,59 @@
+#!/usr/bin/env bash
+# End-to-end checks of `tex render` as a user runs it: 1 and 2 threads give identical files,
+# the sample file develops to the same image, bad input gets a clear error and a non-zero exit
+# (never a crash), and help works. Usage: render_cli_test.sh TEX SOURCE_DIR
+set -uo pipefail
+tex=$1
+src=$2
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+failures=0
+fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+# expect_exit CODE DESCRIPTION CMD...: runs CMD, checks its exit status, keeps its output in $out
+expect_exit() {
+  local want=$1 what=$2
+  shift 2
+  out=$("$@" 2>&1)
+  local rc=$?
+  [ "$rc" = "$want" ] || fail "$what: exit $rc, expected $want: $(echo "$out" | tail -c 300)"
+}
+
+scene=$src/scenes/cornell-box.json
+expect_exit 0 "render 1 thread" "$tex" render "$scene" --spp 2 --res 32x32 --threads 1 --seed 3 -q -o "$tmp/a.exr"
+expect_exit 0 "render 2 threads" "$tex" render "$scene" --spp 2 --res 32x32 --threads 2 --seed 3 -q -o "$tmp/b.exr" --samples-out "$tmp/s.samples"
+cmp -s "$tmp/a.exr" "$tmp/b.exr" || fail "1 and 2 threads wrote different EXRs"
+expect_exit 0 "develop" "$tex" develop "$tmp/s.samples" --res 32x32 -o "$tmp/d.exr"
+expect_exit 0 "compare" "$tex" compare --json "$tmp/a.exr" "$tmp/d.exr"
+echo "$out" | grep -q '"rmse": 0[,}]' || fail "the developed sample file differs from the render: $out"
+for mode in mis terminate single; do
+  expect_exit 0 "spectral mode $mode" "$tex" render "$src/scenes/default.json" --spp 1 --res 16x16 --spectral-mode $mode -q -o "$tmp/m.png"
+done
+expect_exit 0 "help" "$tex" render --help
+
+# Bad flags: usage errors (exit 2) that name the problem.
+expect_exit 2 "unknown flag" "$tex" render "$scene" --bogus
+echo "$out" | grep -q "unknown option '--bogus'" || fail "unknown flag not named: $out"
+expect_exit 2 "bad spp" "$tex" render "$scene" --spp zero
+expect_exit 2 "bad resolution" "$tex" render "$scene" --res 10by10
+expect_exit 2 "bad output type" "$tex" render "$scene" -o out.jpg
+expect_exit 2 "bad spectral mode" "$tex" render "$scene" --spectral-mode all
+expect_exit 2 "no scene" "$tex" render
+
+# Bad files: errors (exit 1) naming the file, no crash.
+expect_exit 1 "missing scene" "$tex" render "$tmp/none.json" -o "$tmp/x.exr"
+printf '{\n  "render": {"spp": 4,,}\n}\n' > "$tmp/bad.json"
+expect_exit 1 "malformed JSON" "$tex" render "$tmp/bad.json" -o "$tmp/x.exr"
+echo "$out" | grep -q "bad.json:2:" || fail "malformed JSON error has no line: $out"
+printf 'export fn wall(h: Hit) -> Material = diffuse(rgb(1.0, 0.0))\n' > "$tmp/broken.tex"
+cat > "$tmp/badtex.json" <<JSON
+{"shapes": [{"type": "quad", "size": [2, 2], "material": "W"}],
+ "materials": [{"match": {"material": "W"}, "file": "broken.tex", "entry": "wall"}]}
+JSON
+expect_exit 1 "broken .tex material" "$tex" render "$tmp/badtex.json" -o "$tmp/x.exr"
+echo "$out" | grep -q "broken.tex:1:" || fail "material error has no file:line: $out"
+head -c 3000 "$src/scenes/cornell-box.gltf" > "$tmp/trunc.gltf"
+expect_exit 1 "truncated glTF" "$tex" render "$tmp/trunc.gltf" -o "$tmp/x.exr"
+head -c 100 /dev/urandom > "$tmp/noise.glb"
+expect_exit 1 "garbage glb" "$tex" render "$tmp/noise.glb" -o "$tmp/x.exr"
+
+[ "$failures" = 0 ] && echo "ok: tex render CLI" || exit 1
