@@ -43,7 +43,7 @@ TEST(Interpreter, ConcurrentEvaluationAgreesWithSerial) {
 }
 
 TEST(Interpreter, StdlibModulesCheckCleanly) {
-  for (const char* name : {"math", "noise", "patterns"}) {
+  for (const char* name : {"math", "noise", "patterns", "color", "spectra", "materials"}) {
     Session s;
     s.loadFile(std::string(TEX_SOURCE_DIR) + "/stdlib/std/" + name + ".tex");
     for (auto& d : s.diags().items()) ADD_FAILURE() << renderDiagnostic(d);
