@@ -194,6 +194,8 @@ int runRender(const Args& args) {
   pts.maxDepth = s.maxDepth;
   pts.wavelengths = s.wavelengths;
   pts.spectralMode = f.spectralMode;
+  pts.filmWidth = s.width;
+  pts.filmHeight = s.height;
   const render::PathTracer tracer(*rs, sampler, pts);
 
   FilmSettings film;

@@ -22,6 +22,37 @@ bool hasDispersiveDensity(const Bsdf& bsdf) {
   return false;
 }
 
+// Ray differentials at the first hit (Igehy 1999, as in pbrt-v4 section 10.1): where the
+// camera rays of the neighbouring pixels meet the hit's tangent plane, and the uv change that
+// goes with it (least squares on dpdu, dpdv).
+void addPixelFootprint(ShadingPoint& sp, const Ray& dx, const Ray& dy) {
+  const Vec3 n = sp.ng;
+  const float d = dot3(n, sp.p);
+  const auto onPlane = [&](const Ray& r, Vec3& out) {
+    const float denom = dot3(n, r.direction);
+    if (std::fabs(denom) < 1e-8f) return false;
+    const float t = (d - dot3(n, r.origin)) / denom;
+    if (!(t > 0.0f) || !std::isfinite(t)) return false;
+    out = r.origin + r.direction * t;
+    return true;
+  };
+  Vec3 px, py;
+  if (!onPlane(dx, px) || !onPlane(dy, py)) return;
+  sp.dpdx = px - sp.p;
+  sp.dpdy = py - sp.p;
+  const float a00 = dot3(sp.dpdu, sp.dpdu), a01 = dot3(sp.dpdu, sp.dpdv), a11 = dot3(sp.dpdv, sp.dpdv);
+  const float det = a00 * a11 - a01 * a01;
+  if (!(std::fabs(det) > 1e-20f)) return;
+  const float inv = 1.0f / det;
+  const auto solve = [&](const Vec3& dp) {
+    const float b0 = dot3(sp.dpdu, dp), b1 = dot3(sp.dpdv, dp);
+    return Vec2((a11 * b0 - a01 * b1) * inv, (a00 * b1 - a01 * b0) * inv);
+  };
+  sp.duvdx = solve(sp.dpdx);
+  sp.duvdy = solve(sp.dpdy);
+  if (!std::isfinite(sp.duvdx.x + sp.duvdx.y + sp.duvdy.x + sp.duvdy.y)) sp.duvdx = sp.duvdy = Vec2(0.0f);
+}
+
 Ray spawnRay(const Vec3& p, const Vec3& ng, const Vec3& direction) {
   Ray r;
   r.origin = offsetRayOrigin(p, ng, direction);
@@ -78,8 +109,14 @@ SampleRecord PathTracer::record(uint64_t index) const {
   rec.wavelengthCount = uint8_t(lambda.count);
   const Vec2 uLens(sampler_.get(index, kLensDimension), sampler_.get(index, kLensDimension + 1));
   const CameraRay cr = scene_.camera().generateRay(film, uLens);
+  PixelFootprint footprint;
+  if (settings_.filmWidth > 0 && settings_.filmHeight > 0) {
+    const CameraRay rx = scene_.camera().generateRay({film.x + 1.0f / float(settings_.filmWidth), film.y}, uLens);
+    const CameraRay ry = scene_.camera().generateRay({film.x, film.y + 1.0f / float(settings_.filmHeight)}, uLens);
+    footprint = {rx.weight > 0.0f && ry.weight > 0.0f, rx.ray, ry.ray};
+  }
   Spectrum L;
-  if (cr.weight > 0.0f) L = radiance(index, cr.ray, lambda, counters) * cr.weight;
+  if (cr.weight > 0.0f) L = radiance(index, cr.ray, footprint, lambda, counters) * cr.weight;
   ++counters.paths;
   bool finite = true;
   for (int j = 0; j < lambda.count; ++j) {
@@ -95,7 +132,8 @@ SampleRecord PathTracer::record(uint64_t index) const {
   return rec;
 }
 
-Spectrum PathTracer::radiance(uint64_t index, const Ray& primary, Wavelengths& lambda, PathCounters& counters) const {
+Spectrum PathTracer::radiance(uint64_t index, const Ray& primary, const PixelFootprint& footprint, Wavelengths& lambda,
+                              PathCounters& counters) const {
   const SceneGeometry& geometry = scene_.geometry();
   const MaterialSystem& materials = scene_.materials();
   const LightSampler& lightSampler = scene_.lightSampler();
@@ -137,7 +175,8 @@ Spectrum PathTracer::radiance(uint64_t index, const Ray& primary, Wavelengths& l
       }
       break;
     }
-    const ShadingPoint sp = RenderScene::shadingPoint(hit);
+    ShadingPoint sp = RenderScene::shadingPoint(hit);
+    if (depth == 0 && footprint.valid) addPixelFootprint(sp, footprint.dx, footprint.dy);
     const Vec3 wo = -ray.direction;
     Bsdf bsdf(Frame::fromNormalTangent(hit.ns, hit.dpdu), hit.ng);
     Spectrum Le;

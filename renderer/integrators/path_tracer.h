@@ -39,6 +39,9 @@ struct PathTracerSettings {
   // estimator is tested against; it cannot see point or directional lights.
   bool nextEventEstimation = true;
   SpectralMode spectralMode = SpectralMode::Mis;
+  // The film's pixel grid, for the pixel footprint of camera rays (ray differentials at the
+  // first hit; textures filter with it). 0: no differentials.
+  int filmWidth = 0, filmHeight = 0;
 };
 
 class PathTracer {
@@ -57,7 +60,12 @@ class PathTracer {
   static constexpr int kDimensionsPerBounce = 7;  // light choice, light 2D, lobe choice, BSDF 2D, roulette
 
  private:
-  Spectrum radiance(uint64_t index, const Ray& primary, Wavelengths& lambda, PathCounters& counters) const;
+  struct PixelFootprint {
+    bool valid = false;
+    Ray dx, dy;  // camera rays one pixel to the right and one down
+  };
+  Spectrum radiance(uint64_t index, const Ray& primary, const PixelFootprint& footprint, Wavelengths& lambda,
+                    PathCounters& counters) const;
 
   const RenderScene& scene_;
   sampling::Sampler sampler_;

@@ -204,6 +204,14 @@ ClosureEvaluation evaluateBinding(const CompiledBinding& binding, const ShadingP
   }
   hit->uv[0] = point.uv.x;
   hit->uv[1] = point.uv.y;
+  for (int k = 0; k < 3; ++k) {
+    hit->dpdx[k] = point.dpdx[k];
+    hit->dpdy[k] = point.dpdy[k];
+  }
+  for (int k = 0; k < 2; ++k) {
+    hit->duvdx[k] = point.duvdx[k];
+    hit->duvdy[k] = point.duvdy[k];
+  }
   ClosureEvaluation result;
   if (binding.spectrumArgs.size() > size_t(kMaxSpectrumArgs)) {
     result.ok = false;

@@ -27,6 +27,10 @@ struct ShadingPoint {
   Vec2 uv{0.0f};
   Vec3 dpdu{0.0f}, dpdv{0.0f};
   Vec4 tangent{0.0f};  // glTF tangent (w: handedness), 0 when the mesh has none
+  // The footprint of one pixel at this point (ray differentials; 0 when unknown): position
+  // and uv change per pixel step in x and y. Texture filtering in .tex reads them (Hit.dpdx...).
+  Vec3 dpdx{0.0f}, dpdy{0.0f};
+  Vec2 duvdx{0.0f}, duvdy{0.0f};
 };
 
 struct CompileReport {

@@ -203,3 +203,43 @@ TEST(PathTracer, SpectralFurnaceDevelopsToTheIlluminantsColourAndIsThreadCountIn
 
 }  // namespace
 }  // namespace tex::render
+
+namespace tex::render {
+namespace {
+
+TEST(PathTracer, FirstHitCarriesThePixelFootprint) {
+  // A quad of side 2 facing a camera 4 away: one pixel of a 100-pixel film with a 0.5 rad field
+  // of view spans 2 * 4 * tan(0.25) / 100 in x, i.e. half that in u. The material emits its
+  // Hit's duvdx.x (and -duvdy.y: v grows along edge2 = +y while film y grows downwards).
+  const std::string file = writeTexModule(
+      "footprint",
+      "export fn dudx(h: Hit) -> Material = emission(spectrum(h.duvdx.x))\n"
+      "export fn dvdy(h: Hit) -> Material = emission(spectrum(0.0 - h.duvdy.y))\n");
+  for (const char* entry : {"dudx", "dvdy"}) {
+    SceneDescription scene = oneObjectScene(makeQuad(Vec3(-1, -1, 0), Vec3(2, 0, 0), Vec3(0, 2, 0)), file, entry,
+                                            Vec3(0.0f, 0.0f, 4.0f));
+    scene.cameras[0].yFovRadians = 0.5f;
+    RenderSceneOptions o;
+    o.width = o.height = 100;
+    o.useCache = false;
+    std::string error;
+    std::unique_ptr<RenderScene> rs = RenderScene::build(scene, o, error);
+    ASSERT_TRUE(rs) << error;
+    PathTracerSettings settings;
+    settings.filmWidth = settings.filmHeight = 100;
+    const PathTracer tracer(*rs, sampling::Sampler(sampling::SamplerKind::Sobol, 1), settings);
+    const double expected = 2.0 * 4.0 * std::tan(0.25) / 100.0 / 2.0;
+    int hits = 0;
+    for (uint64_t i = 0; i < 4000; ++i) {
+      const SampleRecord r = tracer.record(i);
+      const double L = r.values[0] * color::visibleWavelengthPdf(r.lambdaNm[0]);
+      if (L == 0.0) continue;  // off the quad
+      ++hits;
+      EXPECT_NEAR(L, expected, 0.02 * std::fabs(expected)) << entry;  // perspective: a few % across the view
+    }
+    EXPECT_GT(hits, 1000);
+  }
+}
+
+}  // namespace
+}  // namespace tex::render
