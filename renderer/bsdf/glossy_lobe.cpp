@@ -8,13 +8,19 @@
 //  - sampling is exact: draw q from the kernel around the ideal point, lift to the
 //    hemisphere; points outside the disk (below the horizon) give no sample, so
 //    pdfW = eta_i^2 p(q) |cos theta_i| is the exact density of the returned samples.
+// GlossyReflection adds the reciprocal compensation lobe (Kulla & Conty 2017)
+// f_ms = (1 - E(wo)) (1 - E(wi)) / (pi (1 - E_avg)) with E tabulated (glossy_albedo.h), which
+// returns the energy the max() loses near grazing; sampled cosine-weighted with probability
+// 1 - E(wo), the glossy lobe with E(wo).
 #include "renderer/bsdf/glossy_lobe.h"
 
 #include <algorithm>
 #include <cmath>
 
 #include "renderer/bsdf/bsdf_constants.h"
+#include "renderer/bsdf/glossy_albedo.h"
 #include "renderer/bsdf/glossy_kernel.h"
+#include "renderer/core/warp.h"
 
 namespace tex::render {
 namespace {
@@ -30,12 +36,23 @@ bool validEta(float eta) { return eta > 0.0f && std::isfinite(eta); }
 
 double tangentialLength(const Vec3& w) { return std::hypot(double(w.x), double(w.y)); }
 
+// kernelMassInDisk for wo's side, remembered per thread: a path vertex evaluates and samples
+// the same wo many times (NEE, BSDF sample, MIS), and M(wo) costs a 32-point quadrature.
+double massForOutgoing(double n, double d, double R) {
+  thread_local double lastN = -1.0, lastD = -1.0, lastR = -1.0, lastM = 0.0;
+  if (n != lastN || d != lastD || R != lastR) {
+    lastM = kernelMassInDisk(n, d, R);
+    lastN = n, lastD = d, lastR = R;
+  }
+  return lastM;
+}
+
 // Reflection lobe in the disk plane: p(wo_t + wi_t) / max(M(wo), M(wi)), M over the unit disk.
 double reflectionLobe(double n, const Vec3& wo, const Vec3& wi) {
   const double qx = double(wo.x) + double(wi.x), qy = double(wo.y) + double(wi.y);
   const double p = kernelDensity(n, qx * qx + qy * qy);
   if (p == 0.0) return 0.0;
-  const double m = std::max(kernelMassInDisk(n, tangentialLength(wo), 1.0), kernelMassInDisk(n, tangentialLength(wi), 1.0));
+  const double m = std::max(massForOutgoing(n, tangentialLength(wo), 1.0), kernelMassInDisk(n, tangentialLength(wi), 1.0));
   return m > 0.0 ? p / m : 0.0;
 }
 
@@ -45,9 +62,23 @@ double transmissionLobe(double n, const Vec3& wo, const Vec3& wi, double etaO, d
   const double qx = etaO * wo.x + etaI * wi.x, qy = etaO * wo.y + etaI * wi.y;
   const double p = kernelDensity(n, qx * qx + qy * qy);
   if (p == 0.0) return 0.0;
-  const double m = std::max(kernelMassInDisk(n, etaO * tangentialLength(wo), etaI),
+  const double m = std::max(massForOutgoing(n, etaO * tangentialLength(wo), etaI),
                             kernelMassInDisk(n, etaI * tangentialLength(wi), etaO));
   return m > 0.0 ? p / m : 0.0;
+}
+
+// The energy-compensation lobe of GlossyReflection (symmetric in wo, wi).
+double compensation(double n, const Vec3& wo, const Vec3& wi) {
+  return glossy::compensationValue(n, std::fabs(double(wo.z)), std::fabs(double(wi.z)));
+}
+
+// GlossyReflection's sampling density: the glossy lobe's kernel with probability E(wo), the
+// cosine lobe with 1 - E(wo) (E = the tabulated glossy albedo, 1 where nothing is lost).
+double reflectionPdf(double n, const Vec3& wo, const Vec3& wi) {
+  const double cosI = std::fabs(double(wi.z));
+  const double pickCompensation = 1.0 - glossy::tabulatedAlbedo(n, std::fabs(double(wo.z)));
+  const double qx = double(wo.x) + wi.x, qy = double(wo.y) + wi.y;
+  return (1.0 - pickCompensation) * kernelDensity(n, qx * qx + qy * qy) * cosI + pickCompensation * cosI / M_PI;
 }
 
 // Sides of the interface for a relative IOR eta (inside over outside) seen from wo.
@@ -101,7 +132,7 @@ Spectrum glossyLobeEval(const Lobe& lobe, const Vec3& wo, const Vec3& wi, Transp
   const double n = lobe.exponent;
   if (lobe.kind == LobeKind::GlossyReflection) {
     if (!sameHemisphere(wo, wi)) return Spectrum();
-    return lobe.weight * float(reflectionLobe(n, wo, wi));
+    return lobe.weight * float(reflectionLobe(n, wo, wi) + compensation(n, wo, wi));
   }
   Spectrum f;
   if (!lobe.etaVaries) {
@@ -118,8 +149,7 @@ float glossyLobePdfForLane(const Lobe& lobe, const Vec3& wo, const Vec3& wi, Tra
   const double n = lobe.exponent;
   if (lobe.kind == LobeKind::GlossyReflection) {
     if (!sameHemisphere(wo, wi)) return 0.0f;
-    const double qx = double(wo.x) + wi.x, qy = double(wo.y) + wi.y;
-    return float(kernelDensity(n, qx * qx + qy * qy) * std::fabs(double(wi.z)));
+    return float(reflectionPdf(n, wo, wi));
   }
   return float(dielectricPdf(n, wo, wi, lobe.a.v[lobe.etaVaries ? lane : 0]));
 }
@@ -136,7 +166,14 @@ std::optional<BsdfSample> glossyLobeSample(const Lobe& lobe, const Vec3& wo, flo
   std::optional<Vec3> wi;
   float etaScale = 1.0f;
   if (lobe.kind == LobeKind::GlossyReflection) {
-    wi = liftKernelSample(n, -double(wo.x), -double(wo.y), 1.0, u2, side);
+    const double pickCompensation = 1.0 - glossy::tabulatedAlbedo(n, std::fabs(double(wo.z)));
+    if (double(uc) < pickCompensation) {
+      Vec3 w = sampleCosineHemisphere(u2);
+      w.z *= side;
+      if (!degenerate(w)) wi = w;
+    } else {
+      wi = liftKernelSample(n, -double(wo.x), -double(wo.y), 1.0, u2, side);
+    }
   } else {
     const float heroEta = lobe.a.v[0];
     if (!validEta(heroEta)) return std::nullopt;
@@ -165,36 +202,13 @@ std::optional<BsdfSample> glossyLobeSample(const Lobe& lobe, const Vec3& wo, flo
 }
 
 float glossyReflectionAlbedo(float exponent, float cosThetaO) {
-  // Albedo(wo) = integral over the disk of p(x - c) / max(M(c), M(x)), c = -wo_t. Written
-  // over the kernel's polar coordinates around c: radial survival u in [0, 1] (the kernel's
-  // own measure) and the angle phi from the outward direction of c, over the inside arc only.
-  if (!validExponent(exponent) || !(cosThetaO > 0.0f) || cosThetaO > 1.0f) return 0.0f;
-  const double n = exponent, c = std::min(1.0, double(cosThetaO));
-  const double d = std::sqrt(std::max(0.0, (1.0 - c) * (1.0 + c)));
-  const double mo = kernelMassInDisk(n, d, 1.0);
-  if (!(mo > 0.0)) return 0.0f;
-  // Outer: u over [0, 1] with u = (1 - cos(pi t)) / 2 (nodes clustered at both ends).
-  const double sum = glossy::integrate01([&](double t) {
-    const double u = 0.5 * (1.0 - std::cos(M_PI * t));
-    const double du = 0.5 * M_PI * std::sin(M_PI * t);
-    const double r = u > 0.0 ? glossy::sampleKernelRadius(n, u) : 1.0;
-    // Inside the unit disk: |x|^2 = d^2 + r^2 + 2 d r cos(phi) < 1.
-    double phi0 = 0.0;
-    if (d * r > 0.0) {
-      const double cosLimit = (1.0 - d * d - r * r) / (2.0 * d * r);
-      if (cosLimit <= -1.0) return 0.0;  // the whole circle is outside
-      phi0 = cosLimit >= 1.0 ? 0.0 : std::acos(cosLimit);
-    } else if (r >= 1.0) {
-      return 0.0;
-    }
-    const double ring = glossy::integrate01([&](double s) {
-      const double phi = phi0 + (M_PI - phi0) * s;
-      const double x2 = d * d + r * r + 2.0 * d * r * std::cos(phi);
-      return 1.0 / std::max(mo, kernelMassInDisk(n, std::sqrt(std::max(0.0, x2)), 1.0));
-    });
-    return du * ring * (M_PI - phi0) / M_PI;
-  });
-  return float(sum);
+  // Glossy part by quadrature; the compensation lobe's albedo is exactly 1 - E_table(wo)
+  // (glossy_albedo.h: E_avg is the exact average of the table's interpolant).
+  if (!validExponent(exponent) || !(cosThetaO >= 0.0f) || cosThetaO > 1.0f) return 0.0f;
+  const double e = glossy::reflectionAlbedoQuadrature(exponent, cosThetaO);
+  const double eTable = glossy::tabulatedAlbedo(exponent, cosThetaO);
+  const double compensated = eTable < 1.0 && glossy::tabulatedAverageAlbedo(exponent) < 1.0 ? 1.0 - eTable : 0.0;
+  return float(e + compensated);
 }
 
 }  // namespace tex::render

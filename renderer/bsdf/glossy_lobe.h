@@ -5,7 +5,8 @@
 // interface (GlossyDielectric, eta = lobe.a per wavelength; dispersive when lobe.etaVaries).
 // The lobe is the kernel (1 - |q|^2)^(n/2) of the tangential momentum mismatch
 // q = eta_o wo_t + eta_i wi_t in the projected-disk plane (renderer/bsdf/glossy_kernel.h),
-// normalised symmetrically by max(M(wo), M(wi)) (M = the kernel's share above the horizon).
+// normalised symmetrically by max(M(wo), M(wi)) (M = the kernel's share above the horizon);
+// GlossyReflection adds a reciprocal energy-compensation lobe (renderer/bsdf/glossy_albedo.h).
 // Lobe-level entry points dispatched from lobes.cpp; conventions of bsdf.h (local frame, z up).
 #pragma once
 #include <optional>
@@ -23,9 +24,9 @@ std::optional<BsdfSample> glossyLobeSample(const Lobe& lobe, const Vec3& wo, flo
 // whose sampling does not depend on the wavelength.
 float glossyLobePdfForLane(const Lobe& lobe, const Vec3& wo, const Vec3& wi, TransportMode mode, int lane);
 
-// Directional albedo of the reflection lobe with unit weight at cos(theta_o) (for tests, docs
-// and energy bookkeeping of layers). Deterministic 3D quadrature (~2000 kernel-mass
-// evaluations): not for per-sample use.
+// Directional albedo of GlossyReflection (glossy + compensation lobe) with unit weight at
+// cos(theta_o) (for tests, docs and energy bookkeeping of layers): 1 up to the table's margin
+// (<= 1). Deterministic quadrature (a few ms): not for per-sample use.
 float glossyReflectionAlbedo(float exponent, float cosThetaO);
 
 }  // namespace tex::render
