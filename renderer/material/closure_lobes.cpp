@@ -57,9 +57,11 @@ struct Walker {
   }
 
   // GGX roughness from the language (clamped: negative or NaN means smooth, above 1 is 1).
+  // Below alpha 1e-3 a GGX lobe is a mirror for every practical purpose (and its density
+  // would be a spike): treat it as the smooth lobe.
   static float roughnessOf(const compiler::ClosureNode& node) {
     const float r = node.scalars[0];
-    return r > 0.0f ? std::min(r, 1.0f) : 0.0f;
+    return r >= 1e-3f ? std::min(r, 1.0f) : 0.0f;
   }
 
   void walk(int32_t index, const Spectrum& weight, int depth) {
@@ -187,8 +189,15 @@ struct Walker {
 
 }  // namespace
 
-ClosureEvaluation evaluateBinding(const CompiledBinding& binding, const ShadingPoint& point, const Wavelengths& lambda,
-                                  Bsdf& bsdf, Spectrum& emission) {
+ClosureEvaluation evaluateEntry(compiler::EntryFn entry, const float* extraArgs, int extraWords, const ShadingPoint& point,
+                                const Wavelengths& lambda, Bsdf& bsdf, Spectrum& emission) {
+  ClosureEvaluation result;
+  constexpr int kHitWords = int(sizeof(compiler::HitAbi) / sizeof(float));
+  constexpr int kMaxExtraWords = kMaxSpectrumArgs * compiler::kMaxWavelengths;
+  if (extraWords < 0 || extraWords > kMaxExtraWords) {
+    result.ok = false;
+    return result;
+  }
   thread_local std::array<compiler::ClosureNode, kArenaCapacity> nodes;
   compiler::ClosureArena arena{nodes.data(), kArenaCapacity, 0, 0};
   compiler::ShadingContext ctx{};
@@ -196,33 +205,22 @@ ClosureEvaluation evaluateBinding(const CompiledBinding& binding, const ShadingP
   ctx.wavelengthCount = lambda.count;
   ctx.arena = &arena;
 
-  float args[18 + kMaxSpectrumArgs * compiler::kMaxWavelengths] = {};
+  float args[kHitWords + kMaxExtraWords];
   auto* hit = reinterpret_cast<compiler::HitAbi*>(args);
   for (int k = 0; k < 3; ++k) {
     hit->n[k] = point.ns[k];
     hit->p[k] = point.p[k];
-  }
-  hit->uv[0] = point.uv.x;
-  hit->uv[1] = point.uv.y;
-  for (int k = 0; k < 3; ++k) {
     hit->dpdx[k] = point.dpdx[k];
     hit->dpdy[k] = point.dpdy[k];
   }
   for (int k = 0; k < 2; ++k) {
+    hit->uv[k] = point.uv[k];
     hit->duvdx[k] = point.duvdx[k];
     hit->duvdy[k] = point.duvdy[k];
   }
-  ClosureEvaluation result;
-  if (binding.spectrumArgs.size() > size_t(kMaxSpectrumArgs)) {
-    result.ok = false;
-    return result;
-  }
-  for (size_t a = 0; a < binding.spectrumArgs.size(); ++a) {
-    const Spectrum s = binding.spectrumArgs[a].sample(lambda);
-    for (int i = 0; i < lambda.count; ++i) args[18 + a * size_t(lambda.count) + size_t(i)] = s.v[i];
-  }
+  std::copy(extraArgs, extraArgs + extraWords, args + kHitWords);
   int32_t root = -1;
-  binding.entry(args, &root, &ctx);
+  entry(args, &root, &ctx);
   if (arena.overflow || root < 0) {
     result.ok = false;
     return result;
@@ -230,6 +228,21 @@ ClosureEvaluation evaluateBinding(const CompiledBinding& binding, const ShadingP
   Walker walker{arena, lambda, bsdf, emission, {}};
   walker.walk(root, Spectrum(1.0f), 0);
   return walker.result;
+}
+
+ClosureEvaluation evaluateBinding(const CompiledBinding& binding, const ShadingPoint& point, const Wavelengths& lambda,
+                                  Bsdf& bsdf, Spectrum& emission) {
+  if (binding.spectrumArgs.size() > size_t(kMaxSpectrumArgs)) {
+    ClosureEvaluation failed;
+    failed.ok = false;
+    return failed;
+  }
+  float extra[kMaxSpectrumArgs * compiler::kMaxWavelengths];
+  for (size_t a = 0; a < binding.spectrumArgs.size(); ++a) {
+    const Spectrum s = binding.spectrumArgs[a].sample(lambda);
+    for (int i = 0; i < lambda.count; ++i) extra[a * size_t(lambda.count) + size_t(i)] = s.v[i];
+  }
+  return evaluateEntry(binding.entry, extra, int(binding.spectrumArgs.size()) * lambda.count, point, lambda, bsdf, emission);
 }
 
 }  // namespace tex::render

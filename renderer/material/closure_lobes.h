@@ -14,6 +14,11 @@ struct ClosureEvaluation {
   bool sawEmission = false; // the tree holds an emission closure (even a black one)
 };
 
+// Calls a compiled material entry with the point's Hit followed by `extraWords` argument words,
+// and walks the closure tree it returns.
+ClosureEvaluation evaluateEntry(compiler::EntryFn entry, const float* extraArgs, int extraWords, const ShadingPoint& point,
+                                const Wavelengths& lambda, Bsdf& bsdf, Spectrum& emission);
+
 ClosureEvaluation evaluateBinding(const CompiledBinding& binding, const ShadingPoint& point, const Wavelengths& lambda,
                                   Bsdf& bsdf, Spectrum& emission);
 

@@ -1,24 +1,28 @@
-// The built-in reading of a glTF 2.0 metallic-roughness material: the dielectric part is a
-// Fresnel coat of the material's IOR (GGX, alpha = roughness^2) over a Lambertian base of the
-// base colour (factor x sRGB texture); metalness is a GGX conductor whose complex IOR
-// reproduces the base colour at normal incidence and its edge tint (Gulbrandsen 2014, "Artist
-// Friendly Metallic Fresnel"); KHR_materials_transmission is a GGX dielectric with
-// KHR_materials_ior and KHR_materials_dispersion (the extension's Abbe-number formula);
-// emission is emissiveFactor x strength x sRGB texture, upsampled as an illuminant.
+// glTF 2.0 metallic-roughness materials: what the renderer reads natively at a hit (factors
+// times textures, the normal map's shading frame, emission for area lights); how the material
+// scatters is the tex function std.gltf.metallic_roughness (stdlib/std/gltf.tex), called with
+// these inputs (renderer/material/material_system.cpp).
 #pragma once
 #include "renderer/bsdf/bsdf.h"
 #include "renderer/material/material_system.h"
 
 namespace tex::render {
 
-void shadeGltfMaterial(const SceneDescription& scene, const GltfMaterial& material, const ShadingPoint& point,
-                       const Wavelengths& lambda, Bsdf& bsdf, Spectrum& emission);
+// The arguments of std.gltf.metallic_roughness at a point (in its parameter order).
+struct GltfInputs {
+  Vec3 baseColor{1.0f};  // baseColorFactor x sRGB-decoded texture, clamped to [0, 1]
+  float metallic = 0, roughness = 1, transmission = 0, ior = 1.5f, dispersion = 0;
+  Vec3 emission{0.0f};   // emissiveFactor x strength x sRGB-decoded texture
+};
+GltfInputs gltfInputs(const SceneDescription& scene, const GltfMaterial& material, const ShadingPoint& point);
+
+// Replaces the Bsdf's shading frame by the normal map's (no-op without a normal texture).
+void applyGltfNormalMap(const SceneDescription& scene, const GltfMaterial& material, const ShadingPoint& point,
+                        Bsdf& bsdf);
+
+// Emitted radiance (emissive factor x strength x texture, upsampled as an illuminant): what
+// std.gltf's emission closure gives, evaluated natively for area lights.
 Spectrum gltfEmission(const SceneDescription& scene, const GltfMaterial& material, const ShadingPoint& point,
                       const Wavelengths& lambda);
-// The relative IOR of KHR_materials_dispersion at lambdaNm: n_d + (n_d - 1) / V_d (523655 /
-// lambda^2 - 1.5168), V_d = 20 / dispersion, never below 1.
-float dispersiveIor(float iorD, float dispersion, float lambdaNm);
-// Gulbrandsen's complex IOR for a reflectance r at normal incidence and edge tint g (per lane).
-void gulbrandsenIor(float r, float g, float& eta, float& k);
 
 }  // namespace tex::render

@@ -28,6 +28,7 @@ struct MaterialSystem::Impl {
   const SceneDescription* scene = nullptr;
   MaterialOptions options;
   CompiledBindings compiled;
+  CompiledGltf gltfMaterial;  // std.gltf.metallic_roughness, when some glTF material is unbound
   // Material slots: scene materials [0, M), the default grey M, then one slot per binding that
   // matches by mesh name (M + 1 + k). bindingOfMaterial maps a slot to its .tex binding or -1.
   std::vector<int> bindingOfMaterial;
@@ -79,6 +80,13 @@ std::unique_ptr<MaterialSystem> MaterialSystem::create(const SceneDescription& s
     }
   }
   const size_t slots = im.bindingOfMaterial.size();
+  bool anyGltf = false;
+  for (size_t m = 0; m < scene.materials.size(); ++m) anyGltf = anyGltf || im.bindingOfMaterial[m] < 0;
+  if (anyGltf) {
+    if (!compileGltfMaterial(options.wavelengths, options.quickCompile, options.useCache, im.gltfMaterial, error))
+      return nullptr;
+    ms->report_.compileMs += im.gltfMaterial.compileMs;
+  }
   im.emissive.assign(slots, 0);
   im.averageEmission.assign(slots, 0.0f);
   // Probe each material once at a neutral point with a fixed wavelength group to learn whether
@@ -98,7 +106,7 @@ std::unique_ptr<MaterialSystem> MaterialSystem::create(const SceneDescription& s
     } else if (s < scene.materials.size()) {
       const GltfMaterial& gm = scene.materials[s];
       sawEmission = gm.emissiveFactor * gm.emissiveStrength != Vec3(0.0f);
-      shadeGltfMaterial(scene, gm, point, probe, bsdf, e);
+      e = gltfEmission(scene, gm, point, probe);
     }
     im.emissive[s] = sawEmission;
     im.averageEmission[s] = std::max(e.average(probe.count), 0.0f);
@@ -129,7 +137,20 @@ bool MaterialSystem::shade(int material, const ShadingPoint& point, const Wavele
     bsdf.add(grey);
     return true;
   }
-  shadeGltfMaterial(*im.scene, *im.gltf(s), point, lambda, bsdf, emission);
+  // A glTF material: read its factors and textures here, scatter with std.gltf.
+  const GltfMaterial& m = *im.gltf(s);
+  applyGltfNormalMap(*im.scene, m, point, bsdf);
+  const GltfInputs in = gltfInputs(*im.scene, m, point);
+  const float args[kGltfArgumentWords] = {in.baseColor.x, in.baseColor.y, in.baseColor.z, in.metallic, in.roughness,
+                                          in.transmission, in.ior, in.dispersion, in.emission.x, in.emission.y,
+                                          in.emission.z};
+  const ClosureEvaluation ev = evaluateEntry(im.gltfMaterial.entry, args, kGltfArgumentWords, point, lambda, bsdf, emission);
+  if (!ev.ok) {
+    im.failures.fetch_add(1, std::memory_order_relaxed);
+    bsdf = Bsdf(bsdf.frame(), bsdf.geometricNormal());
+    emission = Spectrum();
+    return false;
+  }
   return true;
 }
 

@@ -96,6 +96,36 @@ SpectrumSource spectrumArgument(const TexParamValue& v) {
 
 }  // namespace
 
+bool compileGltfMaterial(int wavelengths, bool quick, bool useCache, CompiledGltf& out, std::string& error) {
+  const auto start = std::chrono::steady_clock::now();
+  lang::Session session;
+  lang::ModuleInfo* module = session.loadSource(
+      "<gltf material>", "import std.gltf.{metallic_roughness}\n"
+                         "export fn gltf_material(h: Hit, base: Color, metallic: Float, roughness: Float, "
+                         "transmission: Float, ior: Float, dispersion: Float, emission_rgb: Color) -> Material =\n"
+                         "  metallic_roughness(h, base, metallic, roughness, transmission, ior, dispersion, emission_rgb)\n");
+  auto& types = lang::TypeTable::global();
+  int fn = -1;
+  if (module && !session.diags().hasErrors())
+    fn = session.instantiate(module, "gltf_material",
+                             {types.hit(), types.color(), types.floating(), types.floating(), types.floating(),
+                              types.floating(), types.floating(), types.color()},
+                             {});
+  compiler::CompileOptions options;
+  options.opt = quick ? compiler::OptLevel::Quick : compiler::OptLevel::O1;
+  options.wavelengths = wavelengths;
+  options.useCache = useCache;
+  if (fn >= 0 && !session.diags().hasErrors()) out.module = compiler::compile(session.program(), {fn}, options, session.diags());
+  if (!out.module) {
+    error = "std.gltf: ";
+    for (const lang::Diagnostic& d : session.diags().items()) error += lang::renderDiagnostic(d);
+    return false;
+  }
+  out.entry = out.module->entry(fn);
+  out.compileMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return true;
+}
+
 bool compileBindings(const SceneDescription& scene, int wavelengths, bool quick, bool useCache,
                      CompiledBindings& out, std::string& error) {
   out = CompiledBindings();

@@ -30,6 +30,17 @@ struct CompiledBindings {
   bool cacheHit = false;
 };
 
+// std.gltf.metallic_roughness compiled on its own: the material of every glTF material that no
+// binding overrides. Its arguments after the Hit are GltfInputs' fields in order
+// (renderer/material/gltf_material.h): 3 + 5 + 3 = 11 words.
+struct CompiledGltf {
+  std::unique_ptr<compiler::CompiledModule> module;
+  compiler::EntryFn entry = nullptr;
+  double compileMs = 0;
+};
+inline constexpr int kGltfArgumentWords = 11;
+bool compileGltfMaterial(int wavelengths, bool quick, bool useCache, CompiledGltf& out, std::string& error);
+
 // Returns false with rendered diagnostics in `error`.
 bool compileBindings(const SceneDescription& scene, int wavelengths, bool quick, bool useCache,
                      CompiledBindings& out, std::string& error);

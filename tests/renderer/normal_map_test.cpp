@@ -27,8 +27,7 @@ Vec3 mappedNormal(Vec3 texel, float scale, Vec4 tangent) {
   p.dpdv = Vec3(0, -1, 0);  // v grows downwards in the image and -y in the world here
   p.tangent = tangent;
   Bsdf bsdf(Frame::fromNormal(p.ns), p.ng);
-  Spectrum e;
-  shadeGltfMaterial(scene, m, p, color::sampleWavelengthGroup(0.5f, 4), bsdf, e);
+  applyGltfNormalMap(scene, m, p, bsdf);
   return bsdf.frame().n;
 }
 
