@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "cli/command.h"
+#include "renderer/spectra/rgb_spectrum.h"
 
 namespace tex::cli {
 
@@ -75,6 +76,8 @@ bool wantsHelp(const Args& args) {
 }  // namespace tex::cli
 
 int main(int argc, char** argv) {
+  // The language's RGB-to-spectrum builtins use the renderer's fitted table.
+  tex::render::installRgbUpsampling();
   // The front end and interpreter recurse over syntax trees; their depth is bounded by the
   // parser's nesting limit, and a large stack keeps that bound far from an overflow.
   tex::cli::MainJob job{argc, argv};

@@ -600,6 +600,21 @@ class Codegen {
         b_.CreateCall(size, {a[0], out});
         return b_.CreateAlignedLoad(lower(n->type), out, llvm::Align(4));
       }
+      case Prim::RgbReflectance:
+      case Prim::RgbUnbounded:
+      case Prim::RgbIlluminant: {
+        // tex_rt_rgb_spectrum(use, rgb, ctx, out): the renderer's upsampling at the context's
+        // wavelengths (lang/rgb_upsampling.h), the same function the interpreter calls.
+        const int use = n->prim == Prim::RgbReflectance ? 0 : n->prim == Prim::RgbUnbounded ? 1 : 2;
+        llvm::AllocaInst* rgb = entryAlloca(llvm::ArrayType::get(f32_, 3));
+        for (int k = 0; k < 3; ++k)
+          b_.CreateStore(b_.CreateExtractElement(a[0], uint64_t(k)), b_.CreateConstInBoundsGEP1_32(f32_, rgb, unsigned(k)));
+        llvm::AllocaInst* out = entryAlloca(llvm::ArrayType::get(f32_, kMaxWavelengths));
+        llvm::FunctionCallee f =
+            runtimeFunction("tex_rt_rgb_spectrum", llvm::Type::getVoidTy(context_), {i32_, ptrTy_, ptrTy_, ptrTy_});
+        b_.CreateCall(f, {b_.getInt32(uint32_t(use)), rgb, ctx_, out});
+        return b_.CreateAlignedLoad(lower(n->type), out, llvm::Align(4));
+      }
     }
     return llvm::PoisonValue::get(lower(n->type));
   }

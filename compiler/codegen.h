@@ -40,5 +40,6 @@ extern "C" void tex_rt_image_lookup(int32_t filter, int32_t handle, int32_t wrap
                                     float dvdx, float dudy, float dvdy, float* out);
 // (width, height) of an image to out[2] (lang::imageSize).
 extern "C" void tex_rt_image_size(int32_t handle, float* out);
+extern "C" void tex_rt_rgb_spectrum(int32_t use, const float* rgb, const void* ctx, float* out);
 
 }  // namespace tex::compiler

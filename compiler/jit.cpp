@@ -33,7 +33,7 @@ namespace tex::compiler {
 namespace {
 
 // Bump on every change to code generation: it is part of every cache key.
-constexpr const char* kCompilerVersion = "tex-compiler-12";
+constexpr const char* kCompilerVersion = "tex-compiler-13";
 
 std::string errorText(llvm::Error error) { return llvm::toString(std::move(error)); }
 
@@ -95,6 +95,7 @@ struct Engine {
     bind("tex_rt_image_handle", &tex_rt_image_handle);
     bind("tex_rt_image_lookup", &tex_rt_image_lookup);
     bind("tex_rt_image_size", &tex_rt_image_size);
+    bind("tex_rt_rgb_spectrum", &tex_rt_rgb_spectrum);
     if (auto err = main.define(llvm::orc::absoluteSymbols(std::move(runtime)))) error = errorText(std::move(err));
   }
 };

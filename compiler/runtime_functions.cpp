@@ -6,6 +6,7 @@
 #include "compiler/abi.h"
 #include "compiler/codegen.h"
 #include "lang/image_table.h"
+#include "lang/rgb_upsampling.h"
 
 namespace tex::compiler {
 
@@ -43,5 +44,10 @@ extern "C" void tex_rt_image_lookup(int32_t filter, int32_t handle, int32_t wrap
 }
 
 extern "C" void tex_rt_image_size(int32_t handle, float* out) { lang::imageSize(handle, out); }
+
+extern "C" void tex_rt_rgb_spectrum(int32_t use, const float* rgb, const void* rawCtx, float* out) {
+  const auto* ctx = static_cast<const ShadingContext*>(rawCtx);
+  lang::rgbToSpectrum(lang::RgbUse(use), rgb, ctx->lambdaNm, ctx->wavelengthCount, out);
+}
 
 }  // namespace tex::compiler

@@ -33,7 +33,7 @@ const std::set<std::string>& otherBuiltins() {
       "vec2", "vec3", "vec4", "rgb", "color", "luminance", "spectrum", "fold", "diffuse",
       "emission", "mix_material", "dielectric", "conductor", "thin_dielectric", "glossy", "glossy_dielectric",
       "layer", "scale_material", "add_material", "image", "image_data", "image_size", "sample", "sample_nearest",
-      "sample_alpha", "sample_filtered"};
+      "sample_alpha", "sample_filtered", "reflectance_spectrum", "unbounded_spectrum", "illuminant_spectrum"};
   return names;
 }
 
@@ -303,6 +303,13 @@ Node* Builder::builtinCall(const std::string& name, std::vector<TypedArg> args, 
   if (name == "color") {
     if (!arity(1) || args[0].node->type != types.vec(3)) return noOverload("a Vec3");
     return prim(Prim::Concat, types.color(), {args[0].node}, callSpan);
+  }
+  if (name == "reflectance_spectrum" || name == "unbounded_spectrum" || name == "illuminant_spectrum") {
+    if (!arity(1) || kind(0) != TypeKind::Color) return noOverload("a Color (linear sRGB)");
+    const Prim p = name == "reflectance_spectrum" ? Prim::RgbReflectance
+                   : name == "unbounded_spectrum" ? Prim::RgbUnbounded
+                                                  : Prim::RgbIlluminant;
+    return prim(p, types.spectrum(), {args[0].node}, callSpan);
   }
   if (name == "luminance") {
     if (!arity(1) || kind(0) != TypeKind::Color) return noOverload("a Color");

@@ -15,8 +15,9 @@ const char* primName(Prim p) {
       "bnot", "beq", "bne", "itof", "ftoi", "splat", "concat", "swizzle", "dot", "wavelengths",
       "mat_diffuse", "mat_emission", "mat_mix", "mat_dielectric", "mat_conductor", "mat_thin_dielectric",
       "mat_glossy", "mat_glossy_dielectric", "mat_layer", "mat_scale", "mat_add",
-      "image_nearest", "image_bilinear", "image_trilinear", "image_size"};
-  static_assert(sizeof(names) / sizeof(names[0]) == size_t(Prim::ImageSize) + 1, "primName table out of date");
+      "image_nearest", "image_bilinear", "image_trilinear", "image_size",
+      "rgb_reflectance", "rgb_unbounded", "rgb_illuminant"};
+  static_assert(sizeof(names) / sizeof(names[0]) == size_t(Prim::RgbIlluminant) + 1, "primName table out of date");
   return names[size_t(p)];
 }
 

@@ -53,6 +53,8 @@ enum class Prim : uint8_t {
   // -> Vec4 RGBA; the nearest and bilinear lookups ignore the derivatives
   ImageNearest, ImageBilinear, ImageTrilinear,
   ImageSize,  // Image -> Vec2 (width, height in texels)
+  // RGB to spectrum (lang/rgb_upsampling.h): Color -> Spectrum at the context's wavelengths
+  RgbReflectance, RgbUnbounded, RgbIlluminant,
 };
 
 // How a material primitive's operands fill a closure node (docs/abi.md, "Materials"): first

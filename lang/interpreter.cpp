@@ -1,5 +1,7 @@
 #include "lang/interpreter.h"
 
+#include "lang/rgb_upsampling.h"
+
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -274,6 +276,17 @@ class Interpreter {
       case Prim::ImageSize: {
         Value r;
         imageSize(eval(n->args[0], slots).i, r.f);
+        return r;
+      }
+      case Prim::RgbReflectance:
+      case Prim::RgbUnbounded:
+      case Prim::RgbIlluminant: {
+        const Value c = eval(n->args[0], slots);
+        const RgbUse use = n->prim == Prim::RgbReflectance ? RgbUse::Reflectance
+                           : n->prim == Prim::RgbUnbounded ? RgbUse::Unbounded
+                                                           : RgbUse::Illuminant;
+        Value r;
+        rgbToSpectrum(use, c.f, group_.lambdaNm, group_.count, r.f);
         return r;
       }
     }

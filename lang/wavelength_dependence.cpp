@@ -104,7 +104,9 @@ bool WavelengthDependence::walkNode(Context& c, const Node* n, std::vector<bool>
       return walk(c, n->args[1], slots);
     }
     case Node::Kind::Prim: {
-      if (n->prim == Prim::Wavelengths) return true;
+      if (n->prim == Prim::Wavelengths || n->prim == Prim::RgbReflectance || n->prim == Prim::RgbUnbounded ||
+          n->prim == Prim::RgbIlluminant)
+        return true;
       bool depends = anyArg();
       if (isMaterialLeaf(n->prim) && depends) c.leafFlags[n] |= kMaterialVariesWithWavelength;
       return depends;

@@ -1,6 +1,8 @@
 #include <cstring>
 #include "renderer/spectra/rgb_spectrum.h"
 
+#include "lang/rgb_upsampling.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -165,6 +167,25 @@ float blackbodyNormalised(float lambdaNm, float kelvin) {
   const double peak = planckShape(kWienB / kelvin);
   const double value = planckShape(double(lambdaNm) * 1e-9);
   return std::isfinite(value) ? float(value / peak) : 0.0f;
+}
+
+namespace {
+void languageUpsampling(lang::RgbUse use, const float rgb[3], const float* lambdaNm, int count, float* out) {
+  const Vec3 c(rgb[0], rgb[1], rgb[2]);
+  for (int i = 0; i < count; ++i) {
+    switch (use) {
+      case lang::RgbUse::Reflectance: out[i] = rgbReflectanceAt(c, lambdaNm[i]); break;
+      case lang::RgbUse::Unbounded: out[i] = rgbUnboundedAt(c, lambdaNm[i]); break;
+      case lang::RgbUse::Illuminant: out[i] = rgbIlluminantAt(c, lambdaNm[i]); break;
+    }
+  }
+}
+const bool kInstalledAtStartUp = (lang::setRgbToSpectrum(&languageUpsampling), true);
+}  // namespace
+
+void installRgbUpsampling() {
+  (void)kInstalledAtStartUp;
+  lang::setRgbToSpectrum(&languageUpsampling);
 }
 
 }  // namespace tex::render

@@ -39,6 +39,11 @@ float rgbReflectanceAt(const Vec3& rgb, float lambdaNm);
 float rgbUnboundedAt(const Vec3& rgb, float lambdaNm);
 float rgbIlluminantAt(const Vec3& rgb, float lambdaNm);
 
+// Installs this upsampling as the language's (lang/rgb_upsampling.h: the builtins
+// reflectance_spectrum, unbounded_spectrum, illuminant_spectrum). Also done by a static
+// initialiser wherever this file is linked; programs call it to be explicit.
+void installRgbUpsampling();
+
 // D65 normalised so that its luminance Y is 1 under the radiance convention above.
 float d65Normalised(float lambdaNm);
 

@@ -13,6 +13,7 @@
 
 #include "compiler/jit.h"
 #include "compiler/value_layout.h"
+#include "renderer/spectra/rgb_spectrum.h"
 #include "lang/interpreter.h"
 #include "lang/session.h"
 
@@ -226,6 +227,7 @@ std::string runOne(const fs::path& file, const Expectation& x) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  tex::render::installRgbUpsampling();  // reflectance_spectrum & co. use the renderer's table
   std::vector<fs::path> files;
   bool verbose = false;
   for (int i = 1; i < argc; ++i) {
