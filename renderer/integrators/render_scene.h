@@ -23,6 +23,8 @@ struct RenderSceneOptions {
 
 class RenderScene {
  public:
+  // The render scene keeps pointers into `scene` (meshes, materials, images): the description
+  // must outlive it.
   static std::unique_ptr<RenderScene> build(const SceneDescription& scene, const RenderSceneOptions& options,
                                             std::string& error);
   ~RenderScene();

@@ -89,27 +89,35 @@ std::unique_ptr<MaterialSystem> MaterialSystem::create(const SceneDescription& s
   }
   im.emissive.assign(slots, 0);
   im.averageEmission.assign(slots, 0.0f);
-  // Probe each material once at a neutral point with a fixed wavelength group to learn whether
-  // it emits (and roughly how much: light selection by power).
+  // Probe each material on a 4 x 4 grid of uv (and positions) with a fixed wavelength group to
+  // learn whether it emits and roughly how much (light selection by power; a patterned emitter
+  // measured at one point could look black there).
   Wavelengths probe = color::sampleWavelengthGroup(0.5f, options.wavelengths);
-  ShadingPoint point;
-  point.p = Vec3(0.0f);
-  point.ng = point.ns = Vec3(0, 0, 1);
-  point.uv = Vec2(0.5f);
   for (size_t s = 0; s < slots; ++s) {
-    Bsdf bsdf(Frame::fromNormal(point.ns), point.ng);
-    Spectrum e;
     bool sawEmission = false;
-    if (im.bindingOfMaterial[s] >= 0) {
-      ClosureEvaluation ev = evaluateBinding(im.compiled.bindings[size_t(im.bindingOfMaterial[s])], point, probe, bsdf, e);
-      sawEmission = ev.sawEmission;
-    } else if (s < scene.materials.size()) {
-      const GltfMaterial& gm = scene.materials[s];
-      sawEmission = gm.emissiveFactor * gm.emissiveStrength != Vec3(0.0f);
-      e = gltfEmission(scene, gm, point, probe);
-    }
+    double sum = 0;
+    int probes = 0;
+    for (int gy = 0; gy < 4; ++gy)
+      for (int gx = 0; gx < 4; ++gx, ++probes) {
+        ShadingPoint point;
+        point.uv = Vec2((float(gx) + 0.5f) / 4.0f, (float(gy) + 0.5f) / 4.0f);
+        point.p = Vec3(point.uv.x, point.uv.y, 0.0f);
+        point.ng = point.ns = Vec3(0, 0, 1);
+        Bsdf bsdf(Frame::fromNormal(point.ns), point.ng);
+        Spectrum e;
+        if (im.bindingOfMaterial[s] >= 0) {
+          const ClosureEvaluation ev =
+              evaluateBinding(im.compiled.bindings[size_t(im.bindingOfMaterial[s])], point, probe, bsdf, e);
+          sawEmission = sawEmission || ev.sawEmission;
+        } else if (s < scene.materials.size()) {
+          const GltfMaterial& gm = scene.materials[s];
+          sawEmission = sawEmission || gm.emissiveFactor * gm.emissiveStrength != Vec3(0.0f);
+          e = gltfEmission(scene, gm, point, probe);
+        }
+        sum += std::max(e.average(probe.count), 0.0f);
+      }
     im.emissive[s] = sawEmission;
-    im.averageEmission[s] = std::max(e.average(probe.count), 0.0f);
+    im.averageEmission[s] = float(sum / probes);
   }
   return ms;
 }
