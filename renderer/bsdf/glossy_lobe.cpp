@@ -52,7 +52,12 @@ double reflectionLobe(double n, const Vec3& wo, const Vec3& wi) {
   const double qx = double(wo.x) + double(wi.x), qy = double(wo.y) + double(wi.y);
   const double p = kernelDensity(n, qx * qx + qy * qy);
   if (p == 0.0) return 0.0;
-  const double m = std::max(massForOutgoing(n, tangentialLength(wo), 1.0), kernelMassInDisk(n, tangentialLength(wi), 1.0));
+  // M decreases as the kernel's centre moves away from the disk's (Anderson's theorem: a
+  // symmetric unimodal density, a symmetric convex set), so when wi is further out than wo the
+  // max is M(wo), already known: the quadrature for M(wi) is needed only when wi is closer in.
+  const double dO = tangentialLength(wo), dI = tangentialLength(wi);
+  const double mO = massForOutgoing(n, dO, 1.0);
+  const double m = dI >= dO ? mO : std::max(mO, kernelMassInDisk(n, dI, 1.0));
   return m > 0.0 ? p / m : 0.0;
 }
 
