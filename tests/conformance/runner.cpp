@@ -110,7 +110,8 @@ bool floatsAgree(float a, float b) {
 bool valuesAgree(const Value& a, const Value& b, const Type* t, int lanes) {
   switch (t->kind) {
     case TypeKind::Bool: return (a.i != 0) == (b.i != 0);
-    case TypeKind::Int: return a.i == b.i;
+    case TypeKind::Int:
+    case TypeKind::Image: return a.i == b.i;  // an Image is its handle in the image table
     case TypeKind::Material: {
       WavelengthGroup g;
       g.count = lanes;
