@@ -29,6 +29,12 @@ for mode in mis terminate single; do
   expect_exit 0 "spectral mode $mode" "$tex" render "$src/scenes/default.json" --spp 1 --res 16x16 --spectral-mode $mode -q -o "$tmp/m.png"
 done
 expect_exit 0 "help" "$tex" render --help
+# A time budget stops a long render early and keeps what was done.
+start=$(date +%s)
+expect_exit 0 "time budget" "$tex" render "$scene" --spp 100000 --res 64x64 --time 1 -q -o "$tmp/t.exr"
+echo "$out" | grep -q "time budget reached" || fail "no time-budget note in the summary: $out"
+[ $(( $(date +%s) - start )) -lt 20 ] || fail "--time 1 ran far past its budget"
+[ -s "$tmp/t.exr" ] || fail "no image after a time-budget stop"
 
 # Bad flags: usage errors (exit 2) that name the problem.
 expect_exit 2 "unknown flag" "$tex" render "$scene" --bogus
