@@ -35,6 +35,16 @@ expect_exit 0 "time budget" "$tex" render "$scene" --spp 100000 --res 64x64 --ti
 echo "$out" | grep -q "time budget reached" || fail "no time-budget note in the summary: $out"
 [ $(( $(date +%s) - start )) -lt 20 ] || fail "--time 1 ran far past its budget"
 [ -s "$tmp/t.exr" ] || fail "no image after a time-budget stop"
+# Ctrl-C (SIGINT) stops cleanly: the partial image is written and the exit status is 130.
+"$tex" render "$scene" --spp 100000 --res 64x64 -q -o "$tmp/i.exr" > "$tmp/i.log" 2>&1 &
+pid=$!
+sleep 2
+kill -INT "$pid"
+wait "$pid"
+rc=$?
+[ "$rc" = 130 ] || fail "interrupted render exited $rc, expected 130: $(cat "$tmp/i.log")"
+grep -q "interrupted: partial image" "$tmp/i.log" || fail "no interruption note: $(cat "$tmp/i.log")"
+[ -s "$tmp/i.exr" ] || fail "no partial image after Ctrl-C"
 
 # Bad flags: usage errors (exit 2) that name the problem.
 expect_exit 2 "unknown flag" "$tex" render "$scene" --bogus
