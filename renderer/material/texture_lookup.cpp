@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace tex::render {
 
@@ -30,6 +31,23 @@ int wrapIndex(int i, int n, WrapMode mode) {
   }
 }
 
+// sRGB decoding by table (4097 points over [0, 1], linear interpolation: within 2e-7 of the
+// formula): four texels of three channels per lookup made powf the hottest call of textured
+// scenes.
+float srgbToLinearFast(float c) {
+  static const std::vector<float> table = [] {
+    std::vector<float> t(4097);
+    for (size_t i = 0; i < t.size(); ++i) t[i] = srgbToLinear(float(i) / 4096.0f);
+    return t;
+  }();
+  if (!(c > 0.0f)) return c > 0.0f ? c : srgbToLinear(c);
+  if (c >= 1.0f) return srgbToLinear(c);
+  const float x = c * 4096.0f;
+  const int i = int(x);
+  const float f = x - float(i);
+  return table[size_t(i)] + f * (table[size_t(i) + 1] - table[size_t(i)]);
+}
+
 Vec4 texel(const ImageData& img, int x, int y, bool srgb) {
   const float* px = &img.pixels[(size_t(y) * size_t(img.width) + size_t(x)) * size_t(img.channels)];
   Vec4 c(1.0f);
@@ -40,9 +58,9 @@ Vec4 texel(const ImageData& img, int x, int y, bool srgb) {
     default: c = Vec4(px[0], px[1], px[2], px[3]); break;
   }
   if (srgb) {
-    c.x = srgbToLinear(c.x);
-    c.y = srgbToLinear(c.y);
-    c.z = srgbToLinear(c.z);
+    c.x = srgbToLinearFast(c.x);
+    c.y = srgbToLinearFast(c.y);
+    c.z = srgbToLinearFast(c.z);
   }
   return c;
 }
