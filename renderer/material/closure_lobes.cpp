@@ -34,7 +34,7 @@ Spectrum paramSpectrum(compiler::ClosureParam kind, const float* params, const W
 struct Walker {
   const compiler::ClosureArena& arena;
   const Wavelengths& lambda;
-  Bsdf& bsdf;
+  Bsdf* bsdf;  // null: only the emission is wanted (area lights), lobes are skipped
   Spectrum& emission;
   ClosureEvaluation result;
   bool underCoat = false;  // inside the base of a layer whose coat the Bsdf holds
@@ -42,7 +42,7 @@ struct Walker {
   void addLobe(Lobe lobe) {
     if (lobe.weight.isBlack()) return;
     lobe.underCoat = underCoat;
-    if (!bsdf.add(lobe)) result.ok = false;
+    if (!bsdf->add(lobe)) result.ok = false;
   }
 
   // An IOR parameter: positive per lane (0 or less would be meaningless: index-matched), and
@@ -72,6 +72,7 @@ struct Walker {
     const compiler::ClosureNode& node = arena.nodes[index];
     switch (node.kind) {
       case compiler::ClosureKind::Diffuse: {
+        if (!bsdf) return;
         Lobe lobe;
         lobe.kind = LobeKind::Lambertian;
         lobe.weight = weight * clampZero(paramSpectrum(node.paramKind, node.params, lambda, ParamUse::Reflectance));
@@ -89,6 +90,7 @@ struct Walker {
         return;
       }
       case compiler::ClosureKind::Dielectric: {
+        if (!bsdf) return;
         Lobe lobe;
         const float roughness = roughnessOf(node);
         lobe.kind = roughness > 0.0f ? LobeKind::RoughDielectric : LobeKind::SmoothDielectric;
@@ -99,6 +101,7 @@ struct Walker {
         return;
       }
       case compiler::ClosureKind::Conductor: {
+        if (!bsdf) return;
         Lobe lobe;
         const float roughness = roughnessOf(node);
         lobe.kind = roughness > 0.0f ? LobeKind::RoughConductor : LobeKind::SmoothConductor;
@@ -110,6 +113,7 @@ struct Walker {
         return;
       }
       case compiler::ClosureKind::ThinDielectric: {
+        if (!bsdf) return;
         Lobe lobe;
         lobe.kind = LobeKind::ThinDielectric;
         lobe.weight = weight;
@@ -119,6 +123,7 @@ struct Walker {
         return;
       }
       case compiler::ClosureKind::Glossy: {
+        if (!bsdf) return;
         Lobe lobe;
         lobe.kind = LobeKind::GlossyReflection;
         lobe.exponent = std::max(node.scalars[0], 0.0f);
@@ -127,6 +132,7 @@ struct Walker {
         return;
       }
       case compiler::ClosureKind::GlossyDielectric: {
+        if (!bsdf) return;
         Lobe lobe;
         lobe.kind = LobeKind::GlossyDielectric;
         lobe.exponent = std::max(node.scalars[0], 0.0f);
@@ -136,6 +142,10 @@ struct Walker {
         return;
       }
       case compiler::ClosureKind::Layer: {
+        if (!bsdf) {
+          walk(node.b, weight, depth + 1);  // the base may emit
+          return;
+        }
         // The coat must be a dielectric interface (smooth or rough); the base's lobes are
         // attenuated by its Fresnel transmission (Bsdf::setCoat, docs/layering.md).
         const int32_t c = node.a;
@@ -159,7 +169,7 @@ struct Walker {
         coat.weight = weight;
         iorLanes(coatNode, coat);
         coat.etaVaries = false;  // the coat reflects: its direction does not depend on the IOR
-        if (!bsdf.setCoat(coat)) {
+        if (!bsdf->setCoat(coat)) {
           result.ok = false;
           return;
         }
@@ -190,7 +200,7 @@ struct Walker {
 }  // namespace
 
 ClosureEvaluation evaluateEntry(compiler::EntryFn entry, const float* extraArgs, int extraWords, const ShadingPoint& point,
-                                const Wavelengths& lambda, Bsdf& bsdf, Spectrum& emission) {
+                                const Wavelengths& lambda, Bsdf* bsdf, Spectrum& emission) {
   ClosureEvaluation result;
   constexpr int kHitWords = int(sizeof(compiler::HitAbi) / sizeof(float));
   constexpr int kMaxExtraWords = kMaxSpectrumArgs * compiler::kMaxWavelengths;
@@ -231,7 +241,7 @@ ClosureEvaluation evaluateEntry(compiler::EntryFn entry, const float* extraArgs,
 }
 
 ClosureEvaluation evaluateBinding(const CompiledBinding& binding, const ShadingPoint& point, const Wavelengths& lambda,
-                                  Bsdf& bsdf, Spectrum& emission) {
+                                  Bsdf* bsdf, Spectrum& emission) {
   if (binding.spectrumArgs.size() > size_t(kMaxSpectrumArgs)) {
     ClosureEvaluation failed;
     failed.ok = false;

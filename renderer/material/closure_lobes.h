@@ -15,11 +15,12 @@ struct ClosureEvaluation {
 };
 
 // Calls a compiled material entry with the point's Hit followed by `extraWords` argument words,
-// and walks the closure tree it returns.
+// and walks the closure tree it returns into `bsdf`'s lobes and `emission` (bsdf null: the
+// emission alone, for area lights).
 ClosureEvaluation evaluateEntry(compiler::EntryFn entry, const float* extraArgs, int extraWords, const ShadingPoint& point,
-                                const Wavelengths& lambda, Bsdf& bsdf, Spectrum& emission);
+                                const Wavelengths& lambda, Bsdf* bsdf, Spectrum& emission);
 
 ClosureEvaluation evaluateBinding(const CompiledBinding& binding, const ShadingPoint& point, const Wavelengths& lambda,
-                                  Bsdf& bsdf, Spectrum& emission);
+                                  Bsdf* bsdf, Spectrum& emission);
 
 }  // namespace tex::render

@@ -107,7 +107,7 @@ std::unique_ptr<MaterialSystem> MaterialSystem::create(const SceneDescription& s
         Spectrum e;
         if (im.bindingOfMaterial[s] >= 0) {
           const ClosureEvaluation ev =
-              evaluateBinding(im.compiled.bindings[size_t(im.bindingOfMaterial[s])], point, probe, bsdf, e);
+              evaluateBinding(im.compiled.bindings[size_t(im.bindingOfMaterial[s])], point, probe, &bsdf, e);
           sawEmission = sawEmission || ev.sawEmission;
         } else if (s < scene.materials.size()) {
           const GltfMaterial& gm = scene.materials[s];
@@ -129,7 +129,7 @@ bool MaterialSystem::shade(int material, const ShadingPoint& point, const Wavele
   emission = Spectrum();
   if (im.bindingOfMaterial[size_t(s)] >= 0) {
     const ClosureEvaluation ev =
-        evaluateBinding(im.compiled.bindings[size_t(im.bindingOfMaterial[size_t(s)])], point, lambda, bsdf, emission);
+        evaluateBinding(im.compiled.bindings[size_t(im.bindingOfMaterial[size_t(s)])], point, lambda, &bsdf, emission);
     if (!ev.ok) {
       im.failures.fetch_add(1, std::memory_order_relaxed);
       bsdf = Bsdf(bsdf.frame(), bsdf.geometricNormal());
@@ -152,7 +152,7 @@ bool MaterialSystem::shade(int material, const ShadingPoint& point, const Wavele
   const float args[kGltfArgumentWords] = {in.baseColor.x, in.baseColor.y, in.baseColor.z, in.metallic, in.roughness,
                                           in.transmission, in.ior, in.dispersion, in.emission.x, in.emission.y,
                                           in.emission.z};
-  const ClosureEvaluation ev = evaluateEntry(im.gltfMaterial.entry, args, kGltfArgumentWords, point, lambda, bsdf, emission);
+  const ClosureEvaluation ev = evaluateEntry(im.gltfMaterial.entry, args, kGltfArgumentWords, point, lambda, &bsdf, emission);
   if (!ev.ok) {
     im.failures.fetch_add(1, std::memory_order_relaxed);
     bsdf = Bsdf(bsdf.frame(), bsdf.geometricNormal());
@@ -168,10 +168,10 @@ Spectrum MaterialSystem::emission(int material, const ShadingPoint& point, const
   if (!im.emissive[size_t(s)]) return Spectrum();
   if (im.bindingOfMaterial[size_t(s)] < 0)
     return im.gltf(s) ? gltfEmission(*im.scene, *im.gltf(s), point, lambda) : Spectrum();
-  Bsdf bsdf(Frame::fromNormal(point.ns), point.ng);
   Spectrum e;
-  shade(material, point, lambda, bsdf, e);
-  return e;
+  const ClosureEvaluation ev =
+      evaluateBinding(im.compiled.bindings[size_t(im.bindingOfMaterial[size_t(s)])], point, lambda, nullptr, e);
+  return ev.ok ? e : Spectrum();
 }
 
 bool MaterialSystem::isEmissive(int material) const { return impl_->emissive[size_t(impl_->slot(material))] != 0; }

@@ -48,7 +48,7 @@ Shaded shade(const CompiledBinding& b) {
   p.ng = p.ns = Vec3(0, 0, 1);
   p.uv = Vec2(0.25f, 0.75f);
   const Wavelengths lambda = color::sampleWavelengthGroup(0.3f, 4);
-  s.result = evaluateBinding(b, p, lambda, s.bsdf, s.emission);
+  s.result = evaluateBinding(b, p, lambda, &s.bsdf, s.emission);
   return s;
 }
 
