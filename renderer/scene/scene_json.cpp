@@ -160,7 +160,7 @@ class SceneJsonLoader {
     if (const JsonAt t = r_.child(at, "transform"); t && !r_.transform(t, transform)) return;
     if (!material.empty()) {
       mesh.material = materialNamed(material);
-      if (mesh.material < 0) {  // a name for bindings to match; renders as grey diffuse unbound
+      if (mesh.material < 0) {  // a name for bindings to match; unbound, a grey rough glTF dielectric
         GltfMaterial m;
         m.name = material;
         m.baseColorFactor = Vec4(0.8f, 0.8f, 0.8f, 1.0f);
