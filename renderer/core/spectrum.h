@@ -73,11 +73,6 @@ struct Spectrum {
   }
 };
 
-inline Spectrum sqrt(const Spectrum& a) {
-  Spectrum r;
-  for (int i = 0; i < kLanes; ++i) r.v[i] = std::sqrt(std::max(a.v[i], 0.0f));
-  return r;
-}
 inline Spectrum exp(const Spectrum& a) {
   Spectrum r;
   for (int i = 0; i < kLanes; ++i) r.v[i] = std::exp(a.v[i]);

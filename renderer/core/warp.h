@@ -79,13 +79,12 @@ inline float areaToSolidAnglePdf(float pdfA, float distanceSquared, float absCos
   return absCosAtPoint > 0.0f ? pdfA * distanceSquared / absCosAtPoint : 0.0f;
 }
 
-// Balance / power heuristics for multiple importance sampling (Veach 1997).
+// The power heuristic (exponent 2) for multiple importance sampling (Veach 1997).
 inline float powerHeuristic(float pdfA, float pdfB) {
   const float a = pdfA * pdfA, b = pdfB * pdfB;
   if (std::isinf(a)) return 1.0f;
   return a + b > 0.0f ? a / (a + b) : 0.0f;
 }
-inline float balanceHeuristic(float pdfA, float pdfB) { return pdfA + pdfB > 0.0f ? pdfA / (pdfA + pdfB) : 0.0f; }
 
 // Direction <-> spherical coordinates, with theta measured from +y (world up) for environment
 // maps: u = phi / 2pi in [0,1), v = theta / pi in [0,1] (v = 0 straight up).

@@ -19,6 +19,24 @@ void embreeError(void* userPtr, RTCError code, const char* message) {
 
 Vec3 transformPoint(const Mat4& m, const Vec3& p) { return Vec3(m * Vec4(p, 1.0f)); }
 
+// Our ray as Embree's: over (0, tMax), every geometry mask.
+RTCRay embreeRay(const Ray& ray) {
+  RTCRay r;
+  r.org_x = ray.origin.x;
+  r.org_y = ray.origin.y;
+  r.org_z = ray.origin.z;
+  r.dir_x = ray.direction.x;
+  r.dir_y = ray.direction.y;
+  r.dir_z = ray.direction.z;
+  r.tnear = 0.0f;
+  r.tfar = ray.tMax;
+  r.time = 0.0f;
+  r.mask = 0xFFFFFFFFu;
+  r.id = 0;
+  r.flags = 0;
+  return r;
+}
+
 }  // namespace
 
 struct SceneGeometry::Impl {
@@ -194,18 +212,7 @@ bool SceneGeometry::intersect(const Ray& ray, SurfaceHit& hit) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRayHit rh;
-  rh.ray.org_x = ray.origin.x;
-  rh.ray.org_y = ray.origin.y;
-  rh.ray.org_z = ray.origin.z;
-  rh.ray.dir_x = ray.direction.x;
-  rh.ray.dir_y = ray.direction.y;
-  rh.ray.dir_z = ray.direction.z;
-  rh.ray.tnear = 0.0f;
-  rh.ray.tfar = ray.tMax;
-  rh.ray.time = 0.0f;
-  rh.ray.mask = 0xFFFFFFFFu;
-  rh.ray.id = 0;
-  rh.ray.flags = 0;
+  rh.ray = embreeRay(ray);
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
   rtcIntersect1(impl_->top, &context, &rh);
@@ -220,19 +227,7 @@ bool SceneGeometry::intersect(const Ray& ray, SurfaceHit& hit) const {
 bool SceneGeometry::occluded(const Ray& ray) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
-  RTCRay r;
-  r.org_x = ray.origin.x;
-  r.org_y = ray.origin.y;
-  r.org_z = ray.origin.z;
-  r.dir_x = ray.direction.x;
-  r.dir_y = ray.direction.y;
-  r.dir_z = ray.direction.z;
-  r.tnear = 0.0f;
-  r.tfar = ray.tMax;
-  r.time = 0.0f;
-  r.mask = 0xFFFFFFFFu;
-  r.id = 0;
-  r.flags = 0;
+  RTCRay r = embreeRay(ray);
   rtcOccluded1(impl_->top, &context, &r);
   return r.tfar < 0.0f;  // Embree sets tfar to -inf on a hit
 }
@@ -268,7 +263,6 @@ void SceneGeometry::fillHit(int instance, uint32_t triangle, float b1, float b2,
   const Vec3 e1 = p[1] - p[0], e2 = p[2] - p[0];
   Vec3 n = glm::cross(e1, e2);
   const float len = glm::length(n);
-  hit.triangleAreaWorld = 0.5f * len;
   hit.ng = len > 0.0f ? n / len : Vec3(0.0f, 0.0f, 1.0f);
   if (inst.flipWinding) hit.ng = -hit.ng;
   hit.ns = hit.ng;

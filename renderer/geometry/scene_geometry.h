@@ -29,8 +29,7 @@ struct SurfaceHit {
   int instance = -1;   // SceneDescription::instances index
   int primitive = -1;  // SceneDescription::primitives index
   uint32_t triangle = 0;  // triangle within the primitive
-  int material = -1;   // the primitive's material (-1: default)
-  float triangleAreaWorld = 0;
+  int material = -1;   // the primitive's glTF material (-1: default)
 };
 
 class SceneGeometry {
@@ -53,13 +52,13 @@ class SceneGeometry {
   bool hasInstance(int instance) const;
   // World-space vertices of one triangle of an instance (for area lights).
   void triangleWorld(int instance, uint32_t triangle, Vec3 p[3], Vec2 uv[3], Vec3& ng) const;
-  // Fills `hit` for an instance, triangle and barycentrics (b1, b2) (also used by lights).
-  void fillHit(int instance, uint32_t triangle, float b1, float b2, SurfaceHit& hit) const;
 
   struct Impl;
 
  private:
   SceneGeometry() = default;
+  // Fills `hit` for an instance, triangle and barycentrics (b1, b2).
+  void fillHit(int instance, uint32_t triangle, float b1, float b2, SurfaceHit& hit) const;
   std::unique_ptr<Impl> impl_;
   Bounds3 bounds_;
   uint64_t triangleCount_ = 0;

@@ -10,13 +10,11 @@ namespace tex::render {
 
 struct alignas(64) PathCounters {
   uint64_t rays = 0;           // closest-hit and shadow rays
-  uint64_t paths = 0;
   uint64_t nonFiniteSamples = 0;  // NaN/Inf estimates, replaced by 0 before the film
   uint64_t materialFailures = 0;
 
   PathCounters& operator+=(const PathCounters& o) {
     rays += o.rays;
-    paths += o.paths;
     nonFiniteSamples += o.nonFiniteSamples;
     materialFailures += o.materialFailures;
     return *this;

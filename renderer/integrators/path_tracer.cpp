@@ -109,15 +109,8 @@ SampleRecord PathTracer::record(uint64_t index) const {
   rec.wavelengthCount = uint8_t(lambda.count);
   const Vec2 uLens(sampler_.get(index, kLensDimension), sampler_.get(index, kLensDimension + 1));
   const CameraRay cr = scene_.camera().generateRay(film, uLens);
-  PixelFootprint footprint;
-  if (settings_.filmWidth > 0 && settings_.filmHeight > 0) {
-    const CameraRay rx = scene_.camera().generateRay({film.x + 1.0f / float(settings_.filmWidth), film.y}, uLens);
-    const CameraRay ry = scene_.camera().generateRay({film.x, film.y + 1.0f / float(settings_.filmHeight)}, uLens);
-    footprint = {rx.weight > 0.0f && ry.weight > 0.0f, rx.ray, ry.ray};
-  }
   Spectrum L;
-  if (cr.weight > 0.0f) L = radiance(index, cr.ray, footprint, lambda, counters) * cr.weight;
-  ++counters.paths;
+  if (cr.weight > 0.0f) L = radiance(index, cr.ray, PixelFootprint{film, uLens}, lambda, counters) * cr.weight;
   bool finite = true;
   for (int j = 0; j < lambda.count; ++j) {
     rec.lambdaNm[j] = lambda.lambdaNm[j];
@@ -176,7 +169,12 @@ Spectrum PathTracer::radiance(uint64_t index, const Ray& primary, const PixelFoo
       break;
     }
     ShadingPoint sp = RenderScene::shadingPoint(hit);
-    if (depth == 0 && footprint.valid) addPixelFootprint(sp, footprint.dx, footprint.dy);
+    if (depth == 0 && settings_.filmWidth > 0 && settings_.filmHeight > 0) {
+      const sampling::FilmPosition f = footprint.film;
+      const CameraRay rx = scene_.camera().generateRay({f.x + 1.0f / float(settings_.filmWidth), f.y}, footprint.uLens);
+      const CameraRay ry = scene_.camera().generateRay({f.x, f.y + 1.0f / float(settings_.filmHeight)}, footprint.uLens);
+      if (rx.weight > 0.0f && ry.weight > 0.0f) addPixelFootprint(sp, rx.ray, ry.ray);
+    }
     const Vec3 wo = -ray.direction;
     Bsdf bsdf(Frame::fromNormalTangent(hit.ns, hit.dpdu), hit.ng);
     Spectrum Le;

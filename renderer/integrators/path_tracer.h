@@ -60,9 +60,11 @@ class PathTracer {
   static constexpr int kDimensionsPerBounce = 7;  // light choice, light 2D, lobe choice, BSDF 2D, roulette
 
  private:
+  // Where the camera ray started, so that the first hit can trace the neighbouring pixels'
+  // rays (only paths that hit something need them).
   struct PixelFootprint {
-    bool valid = false;
-    Ray dx, dy;  // camera rays one pixel to the right and one down
+    sampling::FilmPosition film;
+    Vec2 uLens{0.0f};
   };
   Spectrum radiance(uint64_t index, const Ray& primary, const PixelFootprint& footprint, Wavelengths& lambda,
                     PathCounters& counters) const;

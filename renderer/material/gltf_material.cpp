@@ -15,14 +15,11 @@ Vec3 baseColorAt(const SceneDescription& scene, const GltfMaterial& m, const Sha
   return Vec3(m.baseColorFactor) * Vec3(t);
 }
 
-}  // namespace
 
-Spectrum gltfEmission(const SceneDescription& scene, const GltfMaterial& m, const ShadingPoint& point,
-                      const Wavelengths& lambda) {
-  Vec3 e = m.emissiveFactor * m.emissiveStrength;
-  if (e == Vec3(0.0f)) return Spectrum();
-  e *= Vec3(lookupTexture(scene, m.emissiveTexture, point.uv, point.uv, true));
-  return rgbIlluminantSpectrum(e, lambda);
+// emissiveFactor x strength x the sRGB-decoded emissive texture (no lookup when black).
+Vec3 emissionRgb(const SceneDescription& scene, const GltfMaterial& m, const ShadingPoint& point) {
+  const Vec3 e = m.emissiveFactor * m.emissiveStrength;
+  return e == Vec3(0.0f) ? e : e * Vec3(lookupTexture(scene, m.emissiveTexture, point.uv, point.uv, true));
 }
 
 Vec3 normalMappedNormal(const SceneDescription& scene, const GltfMaterial& m, const ShadingPoint& point, Vec3& tangentOut) {
@@ -53,6 +50,14 @@ Vec3 normalMappedNormal(const SceneDescription& scene, const GltfMaterial& m, co
   return mapped;
 }
 
+}  // namespace
+
+Spectrum gltfEmission(const SceneDescription& scene, const GltfMaterial& m, const ShadingPoint& point,
+                      const Wavelengths& lambda) {
+  const Vec3 e = emissionRgb(scene, m, point);
+  return e == Vec3(0.0f) ? Spectrum() : rgbIlluminantSpectrum(e, lambda);
+}
+
 void applyGltfNormalMap(const SceneDescription& scene, const GltfMaterial& m, const ShadingPoint& point, Bsdf& bsdf) {
   if (m.normalTexture.image < 0) return;
   Vec3 tangent;
@@ -70,8 +75,7 @@ GltfInputs gltfInputs(const SceneDescription& scene, const GltfMaterial& m, cons
       std::clamp(m.transmissionFactor * lookupTexture(scene, m.transmissionTexture, point.uv, point.uv, false).x, 0.0f, 1.0f);
   in.ior = m.ior;
   in.dispersion = m.dispersion;
-  const Vec3 e = m.emissiveFactor * m.emissiveStrength;
-  in.emission = e == Vec3(0.0f) ? e : e * Vec3(lookupTexture(scene, m.emissiveTexture, point.uv, point.uv, true));
+  in.emission = emissionRgb(scene, m, point);
   return in;
 }
 

@@ -56,7 +56,6 @@ std::unique_ptr<MaterialSystem> MaterialSystem::create(const SceneDescription& s
   im.options = options;
   if (!compileBindings(scene, options.wavelengths, options.quickCompile, options.useCache, im.compiled, error))
     return nullptr;
-  ms->report_.texMaterials = int(im.compiled.bindings.size());
   ms->report_.compileMs = im.compiled.compileMs;
   ms->report_.cacheHit = im.compiled.cacheHit;
   im.bindingOfMaterial.assign(scene.materials.size() + 1, -1);

@@ -34,7 +34,6 @@ struct ShadingPoint {
 };
 
 struct CompileReport {
-  int texMaterials = 0;
   double compileMs = 0;
   bool cacheHit = false;
 };

@@ -94,6 +94,20 @@ SpectrumSource spectrumArgument(const TexParamValue& v) {
   return SpectrumSource(d, bounded ? SpectrumUse::Reflectance : SpectrumUse::Unbounded);
 }
 
+compiler::CompileOptions materialCompileOptions(int wavelengths, bool quick, bool useCache) {
+  compiler::CompileOptions options;
+  options.opt = quick ? compiler::OptLevel::Quick : compiler::OptLevel::O1;
+  options.wavelengths = wavelengths;
+  options.useCache = useCache;
+  return options;
+}
+
+std::string renderedDiagnostics(lang::Session& session) {
+  std::string s;
+  for (const lang::Diagnostic& d : session.diags().items()) s += lang::renderDiagnostic(d);
+  return s;
+}
+
 }  // namespace
 
 bool compileGltfMaterial(int wavelengths, bool quick, bool useCache, CompiledGltf& out, std::string& error) {
@@ -111,14 +125,10 @@ bool compileGltfMaterial(int wavelengths, bool quick, bool useCache, CompiledGlt
                              {types.hit(), types.color(), types.floating(), types.floating(), types.floating(),
                               types.floating(), types.floating(), types.color()},
                              {});
-  compiler::CompileOptions options;
-  options.opt = quick ? compiler::OptLevel::Quick : compiler::OptLevel::O1;
-  options.wavelengths = wavelengths;
-  options.useCache = useCache;
+  const compiler::CompileOptions options = materialCompileOptions(wavelengths, quick, useCache);
   if (fn >= 0 && !session.diags().hasErrors()) out.module = compiler::compile(session.program(), {fn}, options, session.diags());
   if (!out.module) {
-    error = "std.gltf: ";
-    for (const lang::Diagnostic& d : session.diags().items()) error += lang::renderDiagnostic(d);
+    error = "std.gltf: " + renderedDiagnostics(session);
     return false;
   }
   out.entry = out.module->entry(fn);
@@ -135,11 +145,6 @@ bool compileBindings(const SceneDescription& scene, int wavelengths, bool quick,
   std::vector<int> entries;
   std::vector<CompiledBinding> bindings;
   std::string problems;
-  const auto renderDiags = [&] {
-    std::string s;
-    for (const lang::Diagnostic& d : session.diags().items()) s += lang::renderDiagnostic(d);
-    return s;
-  };
   for (size_t i = 0; i < scene.texMaterials.size(); ++i) {
     const TexMaterialBinding& b = scene.texMaterials[i];
     const std::string where = b.origin.empty() ? scene.sourcePath : b.origin;
@@ -228,16 +233,13 @@ bool compileBindings(const SceneDescription& scene, int wavelengths, bool quick,
     bindings.push_back(std::move(cb));
   }
   if (session.diags().hasErrors() || !problems.empty()) {
-    error = problems + renderDiags();
+    error = problems + renderedDiagnostics(session);
     return false;
   }
-  compiler::CompileOptions options;
-  options.opt = quick ? compiler::OptLevel::Quick : compiler::OptLevel::O1;
-  options.wavelengths = wavelengths;
-  options.useCache = useCache;
+  const compiler::CompileOptions options = materialCompileOptions(wavelengths, quick, useCache);
   out.module = compiler::compile(session.program(), entries, options, session.diags());
   if (!out.module) {
-    error = renderDiags();
+    error = renderedDiagnostics(session);
     return false;
   }
   for (size_t i = 0; i < bindings.size(); ++i) bindings[i].entry = out.module->entry(entries[i]);

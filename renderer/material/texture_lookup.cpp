@@ -1,15 +1,12 @@
 #include "renderer/material/texture_lookup.h"
 
+#include "renderer/image/image_io.h"
+
 #include <algorithm>
 #include <cmath>
 #include <vector>
 
 namespace tex::render {
-
-float srgbToLinear(float c) {
-  if (c <= 0.04045f) return c / 12.92f;
-  return std::pow((c + 0.055f) / 1.055f, 2.4f);
-}
 
 namespace {
 
@@ -40,8 +37,7 @@ float srgbToLinearFast(float c) {
     for (size_t i = 0; i < t.size(); ++i) t[i] = srgbToLinear(float(i) / 4096.0f);
     return t;
   }();
-  if (!(c > 0.0f)) return c > 0.0f ? c : srgbToLinear(c);
-  if (c >= 1.0f) return srgbToLinear(c);
+  if (!(c > 0.0f) || c >= 1.0f) return srgbToLinear(c);
   const float x = c * 4096.0f;
   const int i = int(x);
   const float f = x - float(i);

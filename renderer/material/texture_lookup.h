@@ -7,9 +7,6 @@
 
 namespace tex::render {
 
-// sRGB transfer function (IEC 61966-2-1) from encoded [0,1] to linear.
-float srgbToLinear(float encoded);
-
 // RGBA at uv (channels missing from the image read as: grey for 1-2 channels, alpha 1).
 // Colour textures pass srgb = true (the alpha channel stays linear). Returns `fallback` when
 // the reference has no image.

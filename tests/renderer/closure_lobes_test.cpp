@@ -3,11 +3,10 @@
 // down the tree, layers put their base under the Bsdf's coat, and bad trees fail cleanly.
 #include <gtest/gtest.h>
 
-#include <filesystem>
-#include <fstream>
 
 #include "renderer/material/closure_lobes.h"
 #include "renderer/material/tex_binding.h"
+#include "tests/renderer/scene_fixtures.h"
 
 namespace tex::render {
 namespace {
@@ -18,14 +17,11 @@ struct Compiled {
 };
 
 Compiled compileEntries(const std::string& source, const std::vector<std::string>& entries) {
-  const auto dir = std::filesystem::temp_directory_path() / ("tex_closure_lobes_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  const auto file = dir / "mats.tex";
-  std::ofstream(file) << source;
+  const std::string file = test::writeTexModule("mats", source);
   SceneDescription scene;
   for (const std::string& e : entries) {
     TexMaterialBinding b;
-    b.file = file.string();
+    b.file = file;
     b.entry = e;
     b.matchMaterial = e;
     scene.texMaterials.push_back(b);

@@ -17,42 +17,15 @@
 #include "renderer/integrators/path_tracer.h"
 #include "renderer/integrators/render_scene.h"
 #include "renderer/scene/shapes.h"
+#include "tests/renderer/scene_fixtures.h"
 #include "runtime/stream.h"
 
 namespace tex::render {
 namespace {
 
-std::string writeTexModule(const std::string& stem, const std::string& text) {
-  const auto dir = std::filesystem::temp_directory_path() / ("tex_pt_test_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  const auto path = dir / (stem + ".tex");
-  std::ofstream(path) << text;
-  return path.string();
-}
-
-// A scene with one primitive, one material bound to a .tex entry, and a camera at `eye`
-// looking down -z.
-SceneDescription oneObjectScene(MeshPrimitive prim, const std::string& texFile, const std::string& entry, Vec3 eye) {
-  SceneDescription s;
-  prim.material = 0;
-  s.primitives.push_back(std::move(prim));
-  s.instances.push_back(MeshInstance{0, Mat4(1.0f), "object"});
-  GltfMaterial m;
-  m.name = "surface";
-  s.materials.push_back(m);
-  TexMaterialBinding b;
-  b.file = texFile;
-  b.entry = entry;
-  b.matchMaterial = "surface";
-  s.texMaterials.push_back(b);
-  CameraDesc c;
-  c.cameraToWorld = Mat4(1.0f);
-  c.cameraToWorld[3] = Vec4(eye, 1.0f);
-  c.yFovRadians = 0.9f;
-  c.aspect = 1.0f;
-  s.cameras.push_back(c);
-  return s;
-}
+using test::constantSky;
+using test::oneObjectScene;
+using test::writeTexModule;
 
 struct Estimate {
   double mean = 0, standardError = 0;
@@ -138,11 +111,7 @@ TEST(PathTracer, WhiteFurnaceForLosslessMaterials) {
     MeshPrimitive sphere = makeSphere(Vec3(0.0f), 1.0f, 48, 24, false);
     sphere.normals.clear();
     SceneDescription scene = oneObjectScene(std::move(sphere), file, entry, Vec3(0.0f, 0.0f, 3.0f));
-    LightDesc sky;
-    sky.kind = LightDesc::Kind::ConstantEnvironment;
-    sky.emission.kind = SpectrumDesc::Kind::Constant;
-    sky.emission.value = 1.0f;
-    scene.lights.push_back(sky);
+    scene.lights.push_back(constantSky(1.0f));
     // A faceted sphere can trap light by total internal reflection for many bounces, so the
     // depth limit (energy it cuts off is real, not noise) must be far beyond typical paths.
     const Estimate e = estimateRadiance(scene, 5000, 4, 1 << 17);

@@ -6,13 +6,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 
 #include "renderer/film/film_sink.h"
 #include "renderer/integrators/path_tracer.h"
 #include "renderer/integrators/render_scene.h"
 #include "renderer/scene/shapes.h"
+#include "tests/renderer/scene_fixtures.h"
 #include "runtime/stream.h"
 
 namespace tex::render {
@@ -33,23 +32,11 @@ DevelopedImage renderMode(const RenderScene& rs, SpectralMode mode, uint64_t sam
 }
 
 TEST(SpectralModes, RoughDispersiveGlassGivesTheSameImageInEveryMode) {
-  const auto dir = std::filesystem::temp_directory_path() / ("tex_spectral_modes_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  std::ofstream(dir / "prism.tex") << "import std.spectra.{cauchy}\n"
-                                      "export fn glass(h: Hit) -> Material = dielectric(cauchy(1.55, 20000.0), roughness: 0.15)\n";
-  SceneDescription scene;
-  MeshPrimitive ball = makeSphere(Vec3(0.0f), 1.0f, 48, 24, false);
-  ball.material = 0;
-  scene.primitives.push_back(ball);
-  scene.instances.push_back(MeshInstance{0, Mat4(1.0f), "ball"});
-  GltfMaterial m;
-  m.name = "glass";
-  scene.materials.push_back(m);
-  TexMaterialBinding b;
-  b.file = (dir / "prism.tex").string();
-  b.entry = "glass";
-  b.matchMaterial = "glass";
-  scene.texMaterials.push_back(b);
+  const std::string file = test::writeTexModule(
+      "prism", "import std.spectra.{cauchy}\n"
+               "export fn glass(h: Hit) -> Material = dielectric(cauchy(1.55, 20000.0), roughness: 0.15)\n");
+  SceneDescription scene =
+      test::oneObjectScene(makeSphere(Vec3(0.0f), 1.0f, 48, 24, false), file, "glass", Vec3(0.0f, 0.0f, 3.0f), 0.75f);
   // A small bright light behind the ball and a dim sky: colour fringes come from dispersion.
   LightDesc sun;
   sun.kind = LightDesc::Kind::Directional;
@@ -57,17 +44,7 @@ TEST(SpectralModes, RoughDispersiveGlassGivesTheSameImageInEveryMode) {
   sun.emission.kind = SpectrumDesc::Kind::Constant;
   sun.emission.value = 3.0f;
   scene.lights.push_back(sun);
-  LightDesc sky;
-  sky.kind = LightDesc::Kind::ConstantEnvironment;
-  sky.emission.kind = SpectrumDesc::Kind::Constant;
-  sky.emission.value = 0.2f;
-  scene.lights.push_back(sky);
-  CameraDesc c;
-  c.cameraToWorld = Mat4(1.0f);
-  c.cameraToWorld[3] = Vec4(0.0f, 0.0f, 3.0f, 1.0f);
-  c.yFovRadians = 0.75f;
-  c.aspect = 1.0f;
-  scene.cameras.push_back(c);
+  scene.lights.push_back(test::constantSky(0.2f));
   RenderSceneOptions o;
   o.width = o.height = 16;
   o.useCache = false;

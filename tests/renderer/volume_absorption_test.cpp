@@ -11,6 +11,7 @@
 #include "renderer/integrators/render_scene.h"
 #include "renderer/scene/shapes.h"
 #include "renderer/spectra/rgb_spectrum.h"
+#include "tests/renderer/scene_fixtures.h"
 
 namespace tex::render {
 namespace {
@@ -31,17 +32,9 @@ TEST(VolumeAbsorption, StraightThroughAnIndexMatchedCubeIsCToTheDOverD) {
   m.attenuationDistance = distance;
   m.attenuationColor = colour;
   scene.materials.push_back(m);
-  LightDesc sky;
-  sky.kind = LightDesc::Kind::ConstantEnvironment;
-  sky.emission.kind = SpectrumDesc::Kind::Constant;
-  sky.emission.value = 1.0f;
-  scene.lights.push_back(sky);
-  CameraDesc c;
-  c.cameraToWorld = Mat4(1.0f);
-  c.cameraToWorld[3] = Vec4(0.0f, 0.0f, 100.0f, 1.0f);
-  c.yFovRadians = 0.005f;  // nearly parallel rays: every path length is the cube's side
-  c.aspect = 1.0f;
-  scene.cameras.push_back(c);
+  scene.lights.push_back(test::constantSky(1.0f));
+  // Nearly parallel rays from far away: every path length is the cube's side.
+  scene.cameras.push_back(test::cameraLookingDownZ(Vec3(0.0f, 0.0f, 100.0f), 0.005f));
 
   RenderSceneOptions o;
   std::string error;
