@@ -33,8 +33,16 @@ class Sampler {
 
   // Coordinate `dimension` of sample `index`, in [0,1).
   float get(uint64_t index, int dimension) const {
-    if (kind_ == SamplerKind::Sobol && (index >> 32) == 0 && unsigned(dimension) < unsigned(kSobolDimensions))
-      return bitsToUnitFloat(owenScramble(sobolBitsFast(uint32_t(index), dimension), (*scrambleSeeds_)[size_t(dimension)]));
+    if (kind_ == SamplerKind::Sobol && (index >> 32) == 0) {
+      // bitsToUnitFloat(owenScramble(sobolBits)) with neither bit reversal done word-wide:
+      // the tables give the reversed Sobol bits, and only the float's 24 bits are reversed back.
+      if (unsigned(dimension) < unsigned(kSobolByteTableDimensions))
+        return float(reverseLow24(laineKarrasPermutation(sobolReversedBitsFast(uint32_t(index), dimension),
+                                                         (*scrambleSeeds_)[size_t(dimension)]))) *
+               0x1p-24f;
+      if (unsigned(dimension) < unsigned(kSobolDimensions))
+        return bitsToUnitFloat(owenScramble(sobolBits(uint32_t(index), dimension), (*scrambleSeeds_)[size_t(dimension)]));
+    }
     return bitsToUnitFloat(getBits(index, dimension));
   }
   // 32 fixed-point bits of the same coordinate (for exact stratification tests).

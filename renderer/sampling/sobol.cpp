@@ -5,16 +5,22 @@
 namespace tex::sampling {
 
 namespace {
-const uint32_t (*buildByteTables())[4][256] {
+const uint32_t (*buildReversedByteTables())[4][256] {
   static uint32_t tables[kSobolByteTableDimensions][4][256];
   for (int d = 0; d < kSobolByteTableDimensions; ++d)
     for (int b = 0; b < 4; ++b)
-      for (uint32_t v = 0; v < 256; ++v) tables[d][b][v] = sobolBits(v << (8 * b), d);
+      for (uint32_t v = 0; v < 256; ++v) tables[d][b][v] = reverseBits32(sobolBits(v << (8 * b), d));
   return tables;
+}
+const uint16_t* buildReverse12() {
+  static uint16_t table[4096];
+  for (uint32_t v = 0; v < 4096; ++v) table[v] = uint16_t(reverseBits32(v) >> 20);
+  return table;
 }
 }  // namespace
 
-const uint32_t (*const kSobolByteTables)[4][256] = buildByteTables();
+const uint32_t (*const kSobolReversedByteTables)[4][256] = buildReversedByteTables();
+const uint16_t* const kReverse12Bits = buildReverse12();
 
 uint32_t sobolScrambleSeed(uint64_t seed, int dimension, uint32_t indexHigh) {
   return uint32_t(hashWords(seed, uint64_t(dimension), indexHigh) >> 32);

@@ -23,22 +23,27 @@ inline uint32_t sobolBits(uint32_t index, int dimension) {
   return bits;
 }
 
-// The same product by bytes: for the first kSobolByteTableDimensions dimensions (those every
-// path uses), four lookups in per-dimension tables of the XOR of the columns selected by each
-// byte value, instead of a loop over the index's bits (256 KB of tables, built at start-up).
-inline constexpr int kSobolByteTableDimensions = 64;
-extern const uint32_t (*const kSobolByteTables)[4][256];
-inline uint32_t sobolBitsFast(uint32_t index, int dimension) {
-  if (dimension >= kSobolByteTableDimensions) return sobolBits(index, dimension);
-  const uint32_t(*t)[256] = kSobolByteTables[dimension];
-  return t[0][index & 0xffu] ^ t[1][(index >> 8) & 0xffu] ^ t[2][(index >> 16) & 0xffu] ^ t[3][index >> 24];
-}
-
 inline uint32_t reverseBits32(uint32_t x) {
   x = __builtin_bswap32(x);  // bytes, then bits within bytes
   x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
   x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);
   return ((x >> 4) & 0x0f0f0f0fu) | ((x & 0x0f0f0f0fu) << 4);
+}
+
+// The same product by bytes, bit-reversed: for the first kSobolByteTableDimensions dimensions
+// (those every path uses), four lookups in per-dimension tables of the XOR of the reversed
+// columns selected by each byte value (reversal commutes with XOR), instead of a loop over the
+// index's bits (256 KB of tables, built at start-up). Reversed because the Owen scramble works
+// on reversed bits: the sampler's fast path then never reverses its input.
+inline constexpr int kSobolByteTableDimensions = 64;
+extern const uint32_t (*const kSobolReversedByteTables)[4][256];
+inline uint32_t sobolReversedBitsFast(uint32_t index, int dimension) {
+  const uint32_t(*t)[256] = kSobolReversedByteTables[dimension];
+  return t[0][index & 0xffu] ^ t[1][(index >> 8) & 0xffu] ^ t[2][(index >> 16) & 0xffu] ^ t[3][index >> 24];
+}
+inline uint32_t sobolBitsFast(uint32_t index, int dimension) {
+  if (dimension >= kSobolByteTableDimensions) return sobolBits(index, dimension);
+  return reverseBits32(sobolReversedBitsFast(index, dimension));
 }
 
 // Burley 2020, listing 2 (the improved Laine-Karras hash). Every step maps bit k from bits
@@ -56,6 +61,13 @@ inline uint32_t laineKarrasPermutation(uint32_t x, uint32_t seed) {
 // more significant than k and on the seed).
 inline uint32_t owenScramble(uint32_t bits, uint32_t seed) {
   return reverseBits32(laineKarrasPermutation(reverseBits32(bits), seed));
+}
+
+// Bits 0-23 of x reversed into 24 bits (bit 0 becomes bit 23): reverseBits32(x) >> 8, the
+// top 24 bits a [0,1) float keeps, by two lookups in a 12-bit reversal table (8 KB).
+extern const uint16_t* const kReverse12Bits;
+inline uint32_t reverseLow24(uint32_t x) {
+  return (uint32_t(kReverse12Bits[x & 0xfffu]) << 12) | uint32_t(kReverse12Bits[(x >> 12) & 0xfffu]);
 }
 
 // The per-dimension scramble seed for a sampler seed and the index's high word.
