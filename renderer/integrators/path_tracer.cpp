@@ -221,17 +221,22 @@ Spectrum PathTracer::radiance(uint64_t index, const Ray& primary, const PixelFoo
       if (choice) {
         const Light& light = *lights[size_t(choice->first)];
         const Vec2 u(sampler_.get(index, dim + 1), sampler_.get(index, dim + 2));
-        const std::optional<LightLiSample> ls = light.sampleLi(hit.p, u, lambda);
-        if (ls && ls->pdfW > 0.0f && !ls->L.isBlack()) {
+        // The light's radiance (an area light's material emission) only once the sample is
+        // known to be visible: most of its cost is spent on samples that are not.
+        const std::optional<LightLiSample> ls = light.sampleLiDeferred(hit.p, u, lambda);
+        if (ls && ls->pdfW > 0.0f && (ls->radianceDeferred || !ls->L.isBlack())) {
           const Spectrum f = bsdf.eval(wo, ls->wi, TransportMode::Radiance) * absDot(ls->wi, hit.ns);
           if (!f.isBlack()) {
             ++counters.rays;
             if (!geometry.occluded(shadowRay(hit.p, hit.ng, *ls))) {
-              const float pdfLight = choice->second * ls->pdfW;
-              const float weight =
-                  ls->delta ? 1.0f
-                            : powerHeuristic(pdfLight, bsdfTechniquePdf(ls->wi, bsdf.pdf(wo, ls->wi, TransportMode::Radiance)));
-              L += beta * f * ls->L * (spectralWeight * weight / pdfLight);
+              const Spectrum Li = ls->radianceDeferred ? light.deferredRadiance(*ls, lambda) : ls->L;
+              if (!Li.isBlack()) {
+                const float pdfLight = choice->second * ls->pdfW;
+                const float weight =
+                    ls->delta ? 1.0f
+                              : powerHeuristic(pdfLight, bsdfTechniquePdf(ls->wi, bsdf.pdf(wo, ls->wi, TransportMode::Radiance)));
+                L += beta * f * Li * (spectralWeight * weight / pdfLight);
+              }
             }
           }
         }

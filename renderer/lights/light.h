@@ -28,6 +28,9 @@ struct LightLiSample {
   float distance = 0;  // shadow ray length (infinity for directional/environment)
   float pdfW = 0;      // solid angle (delta lights: 1)
   bool delta = false;  // a Dirac light: no MIS with BSDF sampling
+  // From Light::sampleLiDeferred: L is not evaluated yet (Light::deferredRadiance gives it).
+  bool radianceDeferred = false;
+  Vec2 uvLight{0.0f};  // texture coordinates at pLight (area lights)
 };
 
 struct LightLeSample {
@@ -76,6 +79,16 @@ class Light {
   virtual float power() const = 0;
 
   virtual std::optional<LightLiSample> sampleLi(const Vec3& refPoint, Vec2 u, const Wavelengths& lambda) const = 0;
+  // sampleLi, except that a light whose radiance is costly (an area light runs its material's
+  // emission) may leave L black and set radianceDeferred, so that an integrator evaluates it
+  // (deferredRadiance) only for samples that turn out visible. Same sample, same values.
+  virtual std::optional<LightLiSample> sampleLiDeferred(const Vec3& refPoint, Vec2 u, const Wavelengths& lambda) const {
+    return sampleLi(refPoint, u, lambda);
+  }
+  virtual Spectrum deferredRadiance(const LightLiSample& sample, const Wavelengths& lambda) const {
+    (void)lambda;
+    return sample.L;
+  }
   // Area lights: density sampleLi would have had for reaching `onLight` from refPoint.
   // Environment lights: for the escaping direction wi. Delta lights: 0.
   virtual float pdfLi(const Vec3& refPoint, const Vec3& wi, const EmitterPoint* onLight) const = 0;

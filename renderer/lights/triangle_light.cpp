@@ -36,7 +36,8 @@ Spectrum TriangleLight::L(const EmitterPoint& point, const Vec3& w, const Wavele
   return emission_->radiance(point, lambda);
 }
 
-std::optional<LightLiSample> TriangleLight::sampleLi(const Vec3& refPoint, Vec2 u, const Wavelengths& lambda) const {
+std::optional<LightLiSample> TriangleLight::sampleLiDeferred(const Vec3& refPoint, Vec2 u, const Wavelengths& lambda) const {
+  (void)lambda;
   if (!(area_ > 0.0f) || !emission_) return std::nullopt;
   const EmitterPoint e = pointAt(sampleUniformTriangle(u));
   const Vec3 toLight = e.p - refPoint;
@@ -49,12 +50,32 @@ std::optional<LightLiSample> TriangleLight::sampleLi(const Vec3& refPoint, Vec2 
   const float pdfW = areaToSolidAnglePdf(1.0f / area_, dist2, cosLight);
   if (!std::isfinite(pdfW)) return std::nullopt;  // grazing: the density overflows
   LightLiSample s;
-  s.L = emission_->radiance(e, lambda);
+  s.radianceDeferred = true;
+  s.uvLight = e.uv;
   s.wi = wi;
   s.pLight = e.p;
   s.nLight = n_;
   s.distance = dist;
   s.pdfW = pdfW;
+  return s;
+}
+
+Spectrum TriangleLight::deferredRadiance(const LightLiSample& sample, const Wavelengths& lambda) const {
+  if (!sample.radianceDeferred) return sample.L;
+  EmitterPoint e;
+  e.p = sample.pLight;
+  e.uv = sample.uvLight;
+  e.n = n_;
+  e.primitive = desc_.primitive;
+  return emission_->radiance(e, lambda);
+}
+
+std::optional<LightLiSample> TriangleLight::sampleLi(const Vec3& refPoint, Vec2 u, const Wavelengths& lambda) const {
+  std::optional<LightLiSample> s = sampleLiDeferred(refPoint, u, lambda);
+  if (s) {
+    s->L = deferredRadiance(*s, lambda);
+    s->radianceDeferred = false;
+  }
   return s;
 }
 

@@ -23,6 +23,8 @@ class TriangleLight final : public Light {
   LightKind kind() const override { return LightKind::Triangle; }
   float power() const override;  // pi area averageRadiance (one-sided Lambertian)
   std::optional<LightLiSample> sampleLi(const Vec3& refPoint, Vec2 u, const Wavelengths& lambda) const override;
+  std::optional<LightLiSample> sampleLiDeferred(const Vec3& refPoint, Vec2 u, const Wavelengths& lambda) const override;
+  Spectrum deferredRadiance(const LightLiSample& sample, const Wavelengths& lambda) const override;
   float pdfLi(const Vec3& refPoint, const Vec3& wi, const EmitterPoint* onLight) const override;
   std::optional<LightLeSample> sampleLe(Vec2 uPos, Vec2 uDir, const Wavelengths& lambda) const override;
   void pdfLe(const Ray& ray, const Vec3& nLight, float& pdfPosA, float& pdfDirW) const override;

@@ -201,6 +201,40 @@ TEST(Light, TriangleSampleLiReturnsTheEmissionAtTheInterpolatedUv) {
   EXPECT_FALSE(light.sampleLi(Vec3(3.0f, 0.0f, 0.0f), Vec2(0.3f, 0.3f), kLambda));
 }
 
+// The path tracer samples area lights with sampleLiDeferred and asks for the radiance only
+// when the shadow ray is clear: that must be the very sample and value sampleLi gives.
+TEST(Light, TriangleDeferredRadianceIsSampleLisRadiance) {
+  const TriangleLightDesc t = testTriangle();
+  const UvEmission emission(2.0f);
+  const TriangleLight light(t, &emission);
+  const PointLight point(Vec3(0.0f, 1.0f, 0.0f), SpectrumSource::constant(3.0f));
+  sampling::Pcg32 rng(8, 2);
+  for (int i = 0; i < 1000; ++i) {
+    const Vec2 u = next2(rng);
+    const Vec3 ref(rng.nextFloat() - 0.5f, rng.nextFloat() - 0.5f, rng.nextFloat() * 2.0f - 1.0f);
+    const std::optional<LightLiSample> full = light.sampleLi(ref, u, kLambda);
+    const std::optional<LightLiSample> deferred = light.sampleLiDeferred(ref, u, kLambda);
+    ASSERT_EQ(bool(full), bool(deferred));
+    if (!full) continue;
+    EXPECT_FALSE(full->radianceDeferred);
+    EXPECT_TRUE(deferred->radianceDeferred);
+    EXPECT_TRUE(deferred->L.isBlack());
+    EXPECT_EQ(deferred->pLight, full->pLight);
+    EXPECT_EQ(deferred->wi, full->wi);
+    EXPECT_EQ(deferred->pdfW, full->pdfW);
+    EXPECT_EQ(deferred->distance, full->distance);
+    const Spectrum L = light.deferredRadiance(*deferred, kLambda);
+    for (int k = 0; k < kLanes; ++k) EXPECT_EQ(L[k], full->L[k]);
+    EXPECT_GT(L[0], 2.0f);  // 2 (1 + u) with u > 0 somewhere inside: not a black default
+  }
+  // Lights without a deferred form give their radiance at once.
+  const std::optional<LightLiSample> p = point.sampleLiDeferred(Vec3(0.0f), Vec2(0.5f), kLambda);
+  ASSERT_TRUE(p);
+  EXPECT_FALSE(p->radianceDeferred);
+  EXPECT_EQ(point.deferredRadiance(*p, kLambda)[0], p->L[0]);
+  EXPECT_GT(p->L[0], 0.0f);
+}
+
 // Lambert's formula for the irradiance from a uniform polygon of radiance L at a point with
 // normal n (polygon above the horizon): E = L/2 sum_i angle(r_i, r_i+1) n . unit(r_i x r_i+1).
 double polygonIrradiance(const std::vector<Vec3>& vertices, const Vec3& x, const Vec3& n, double L) {
