@@ -10,6 +10,9 @@
 //    a density there), and the sample is `dispersive` (the density differs between lanes);
 //    roughDielectricPdfForLane gives each lane's density for spectral MIS.
 //  - eta = 1 (index-matched): no interface, the light passes straight through (a Dirac event).
+//  - The transmitted density jumps to 0 on the ring wi.z = -wo.z / eta_p, where wm reaches the
+//    microfacet horizon (D = alpha^2 / pi there, not 0); near eta = 1 the ring passes next to
+//    the lobe's peak at wi = -wo (dwm/dwi ~ 1 / (eta - 1)^2), so quadratures must split there.
 #include <cmath>
 
 #include "renderer/bsdf/bsdf_constants.h"
