@@ -6,6 +6,10 @@
 //                                 compensation lobe) by quadrature and by Monte Carlo.
 //   glossy_albedo plots DIR       PNG line plots of albedo vs theta_o: this model, modified
 //                                 Phong (Lafortune & Willems 1994), GGX (Walter et al. 2007).
+//   glossy_albedo masscheck       the kernel-mass table (renderer/bsdf/glossy_mass_table.h)
+//                                 against the quadrature in every cell of its domain: the
+//                                 worst interpolation error per margin band.
+//   glossy_albedo dielectric      R + T of GlossyDielectric by Monte Carlo of its sampler.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -18,6 +22,7 @@
 #include "renderer/bsdf/glossy_albedo.h"
 #include "renderer/bsdf/glossy_kernel.h"
 #include "renderer/bsdf/glossy_lobe.h"
+#include "renderer/bsdf/glossy_mass_table.h"
 #include "renderer/bsdf/microfacet.h"
 #include "renderer/image/image_io.h"
 #include "renderer/sampling/pcg.h"
@@ -318,12 +323,118 @@ int writePlots(const std::string& dir) {
   return 0;
 }
 
+// ---------------------------------------------------------------- mass table
+
+// Every cell of the table's domain (s step 1/4, log2 R step 1/16, 128 cells in d) at its
+// centre and at random points: the interpolant minus the quadrature, worst per band of
+// massTableMargin (a positive deficit = quadrature above the interpolant; the margin must
+// exceed it).
+constexpr int kPointsPerCell = 8;  // the centre and 7 random points
+
+int massCheck() {
+  const double sLo = std::log2(1.0 + gl::kMassTableMinExponent), sHi = std::log2(1.0 + gl::kMassTableMaxExponent);
+  const double rLo = std::log2(gl::kMassTableMinRadius), rHi = std::log2(gl::kMassTableMaxRadius);
+  const int sCells = int(std::ceil((sHi - sLo) * 4)), rCells = int(std::ceil((rHi - rLo) * 16)), dCells = 128;
+  struct Worst {
+    double deficit = -1, excess = -1, n = 0, d = 0, R = 0, margin = 0;
+  };
+  std::vector<Worst> bands(2);
+  auto bandOf = [](double n) { return n < 63.0 ? 0 : 1; };
+  for (int i = 0; i < sCells; ++i) {
+    // Per thread: worst deficit, worst excess, and (n, d, R) of the worst deficit.
+    std::vector<std::vector<double>> perThread(2, std::vector<double>(5, -1.0));
+    auto work = [&](int first) {
+      tex::sampling::Pcg32 rng(uint64_t(i) * 2 + uint64_t(first), 99);
+      std::vector<double>& w = perThread[first];
+      for (int j = first; j < rCells; j += 2)
+        for (int c = 0; c < dCells; ++c)
+          for (int p = 0; p < kPointsPerCell; ++p) {
+            const double fs = p == 0 ? 0.5 : rng.nextFloat(), fr = p == 0 ? 0.5 : rng.nextFloat(),
+                         fd = p == 0 ? 0.5 : rng.nextFloat();
+            const double n = std::exp2(std::min(sHi, sLo + (i + fs) * 0.25)) - 1.0;
+            const double R = std::exp2(std::min(rHi, rLo + (j + fr) / 16.0));
+            const double reach = gl::sampleKernelRadius(n, 1e-16);
+            const double d = std::max(0.0, R - reach + 2.0 * reach * (c + fd) / dCells);
+            const double diff = gl::interpolatedMassInDisk(n, d, R) - gl::kernelMassInDisk(n, d, R);
+            if (-diff > w[0]) w[0] = -diff, w[2] = n, w[3] = d, w[4] = R;
+            w[1] = std::max(w[1], diff);
+          }
+    };
+    std::thread other(work, 1);
+    work(0);
+    other.join();
+    for (const auto& w : perThread) {
+      Worst& b = bands[bandOf(std::exp2(sLo + (i + 0.5) * 0.25) - 1.0)];
+      if (w[0] > b.deficit) b.deficit = w[0], b.n = w[2], b.d = w[3], b.R = w[4], b.margin = gl::massTableMargin(w[2]);
+      b.excess = std::max(b.excess, w[1]);
+    }
+  }
+  const char* names[] = {"n < 63", "n >= 63"};
+  bool ok = true;
+  for (int b = 0; b < 2; ++b) {
+    const Worst& w = bands[b];
+    std::printf("%-12s worst deficit %.3g (n %.4g, d %.5f, R %.4f), worst excess %.3g, margin %.3g\n", names[b],
+                w.deficit, w.n, w.d, w.R, w.excess, w.margin);
+    ok = ok && w.deficit < w.margin;
+  }
+  std::printf(ok ? "margins bound every checked point\n" : "MARGIN TOO SMALL\n");
+  return ok ? 0 : 1;
+}
+
+// ---------------------------------------------------------------- dielectric
+
+// R + T of GlossyDielectric (IOR 1.35) from outside and from inside, Importance mode (flux), by
+// Monte Carlo of the real sampler: the mean of f |cos| / pdf over 200k samples (no sample = 0).
+int dielectricReport() {
+  const double thetas[] = {0, 30, 45, 60, 75, 85, 89};
+  double worstError = 0.0;
+  for (bool inside : {false, true}) {
+    std::printf("\nGlossyDielectric, IOR 1.35, from %s: R + T\n| n \\ theta_o |", inside ? "inside" : "outside");
+    for (double t : thetas) std::printf(" %g |", t);
+    std::printf("\n|---|---|---|---|---|---|---|---|\n");
+    for (double n : kExponents) {
+      Lobe lobe;
+      lobe.kind = LobeKind::GlossyDielectric;
+      lobe.exponent = float(n);
+      lobe.weight = Spectrum(1.0f);
+      lobe.a = Spectrum(1.35f);
+      std::vector<double> stdError(std::size(thetas));  // one element per thread's k
+      const auto albedo = parallelMap(int(std::size(thetas)), [&](int k) {
+        Vec3 wo(float(std::sin(thetas[k] * kDeg)), 0.0f, float(std::cos(thetas[k] * kDeg)));
+        if (inside) wo.z = -wo.z;
+        tex::sampling::Pcg32 rng(7, 11);
+        constexpr int samples = 200000;
+        double sum = 0.0, sum2 = 0.0;
+        for (int i = 0; i < samples; ++i) {
+          const float uc = rng.nextFloat();
+          const Vec2 u(rng.nextFloat(), rng.nextFloat());
+          auto s = lobeSample(lobe, wo, uc, u, TransportMode::Importance);
+          const double w = s ? s->f.v[0] * std::fabs(double(s->wi.z)) / s->pdfW : 0.0;
+          sum += w;
+          sum2 += w * w;
+        }
+        const double mean = sum / samples;
+        stdError[k] = std::sqrt(std::max(0.0, sum2 / samples - mean * mean) / samples);
+        return mean;
+      });
+      for (double e : stdError) worstError = std::max(worstError, e);
+      std::printf("| %g |", n);
+      for (double a : albedo) std::printf(" %.4f |", a);
+      std::printf("\n");
+    }
+  }
+  std::printf("\nworst standard error %.2g\n", worstError);
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   if (argc >= 3 && !std::strcmp(argv[1], "table")) return writeTable(argv[2]);
   if (argc >= 2 && !std::strcmp(argv[1], "report")) return report();
   if (argc >= 3 && !std::strcmp(argv[1], "plots")) return writePlots(argv[2]);
-  std::fprintf(stderr, "usage: glossy_albedo table OUT.cpp | report | plots DIR\n");
+  if (argc >= 2 && !std::strcmp(argv[1], "masscheck")) return massCheck();
+  if (argc >= 2 && !std::strcmp(argv[1], "dielectric")) return dielectricReport();
+  std::fprintf(stderr, "usage: glossy_albedo table OUT.cpp | report | plots DIR | masscheck | dielectric\n");
   return 2;
 }

@@ -1,17 +1,19 @@
 // The glossy model's lobes (docs/glossy-model.md). In the projected-disk plane of wi (where
 // |cos theta_i| dw_i = dA), the lobe is the planar kernel p(q) of the tangential momentum
-// mismatch q = eta_o wo_t + eta_i wi_t (reflection: eta_o = eta_i = 1, so q = wo_t + wi_t),
-// divided by the symmetric max(M(wo), M(wi)), where M(w) is the share of w's kernel that lands
-// inside the disk of the medium it scatters into. Then:
-//  - reciprocity is exact (q, the max and the symmetric Fresnel factors are symmetric);
-//  - albedo <= weight exactly (f |cos| <= weight p(q) / M(wo), whose integral is weight);
+// mismatch q = eta_o wo_t + eta_i wi_t (reflection off GlossyReflection: q = wo_t + wi_t),
+// divided by a normalisation symmetric in (wo, wi): the max of both directions' own. Then:
+//  - reciprocity is exact (q, the max and the symmetric Fresnel weights are symmetric);
+//  - albedo <= weight exactly (f |cos| <= weight p(q) / norm(wo), whose integral is weight);
 //  - sampling is exact: draw q from the kernel around the ideal point, lift to the
-//    hemisphere; points outside the disk (below the horizon) give no sample, so
-//    pdfW = eta_i^2 p(q) |cos theta_i| is the exact density of the returned samples.
-// GlossyReflection adds the reciprocal compensation lobe (Kulla & Conty 2017)
-// f_ms = (1 - E(wo)) (1 - E(wi)) / (pi (1 - E_avg)) with E tabulated (glossy_albedo.h), which
-// returns the energy the max() loses near grazing; sampled cosine-weighted with probability
-// 1 - E(wo), the glossy lobe with E(wo).
+//    hemisphere; points no direction has (below the horizon) give no sample, so the pdf is
+//    the exact density of the returned samples.
+// GlossyReflection: norm = M, the share of the kernel inside the unit disk, by quadrature; plus
+// the reciprocal compensation lobe (Kulla & Conty 2017) f_ms = (1 - E(wo)) (1 - E(wi)) /
+// (pi (1 - E_avg)) with E tabulated (glossy_albedo.h), which returns the energy the max()
+// loses near grazing; sampled cosine-weighted with probability 1 - E(wo), the glossy lobe with
+// E(wo). GlossyDielectric: reflection and refraction share q in the momentum plane, weighted by
+// the mean Fresnel reflectance F^ of both directions and 1 - F^; norm = N, the weighted share
+// of the kernel that scatters somewhere, from tabulated masses (glossy_mass_table.h).
 #include "renderer/bsdf/glossy_lobe.h"
 
 #include <algorithm>
@@ -20,6 +22,7 @@
 #include "renderer/bsdf/bsdf_constants.h"
 #include "renderer/bsdf/glossy_albedo.h"
 #include "renderer/bsdf/glossy_kernel.h"
+#include "renderer/bsdf/glossy_mass_table.h"
 #include "renderer/core/warp.h"
 
 namespace tex::render {
@@ -61,17 +64,6 @@ double reflectionLobe(double n, const Vec3& wo, const Vec3& wi) {
   return m > 0.0 ? p / m : 0.0;
 }
 
-// Refraction lobe in the momentum plane: p(etaO wo_t + etaI wi_t) / max(M(wo), M(wi)), where
-// wo's kernel must land in the disk of radius etaI (wi's medium) and vice versa.
-double transmissionLobe(double n, const Vec3& wo, const Vec3& wi, double etaO, double etaI) {
-  const double qx = etaO * wo.x + etaI * wi.x, qy = etaO * wo.y + etaI * wi.y;
-  const double p = kernelDensity(n, qx * qx + qy * qy);
-  if (p == 0.0) return 0.0;
-  const double m = std::max(massForOutgoing(n, etaO * tangentialLength(wo), etaI),
-                            kernelMassInDisk(n, etaI * tangentialLength(wi), etaO));
-  return m > 0.0 ? p / m : 0.0;
-}
-
 // The energy-compensation lobe of GlossyReflection (symmetric in wo, wi).
 double compensation(double n, const Vec3& wo, const Vec3& wi) {
   return glossy::compensationValue(n, std::fabs(double(wo.z)), std::fabs(double(wi.z)));
@@ -86,35 +78,89 @@ double reflectionPdf(double n, const Vec3& wo, const Vec3& wi) {
   return (1.0 - pickCompensation) * kernelDensity(n, qx * qx + qy * qy) * cosI + pickCompensation * cosI / M_PI;
 }
 
-// Sides of the interface for a relative IOR eta (inside over outside) seen from wo.
-struct Indices {
-  double etaO, etaI;  // index on wo's side and on the transmitted side
-};
-Indices indicesFor(const Vec3& wo, float eta) { return wo.z > 0.0f ? Indices{1.0, eta} : Indices{eta, 1.0}; }
+// GlossyDielectric (docs/glossy-model.md, "GlossyDielectric"). Everything lives in the plane of
+// tangential momenta k = eta_side w_t, which the interface conserves: the kernel draws
+// q = a + b, a = eta_o wo_t, b = the momentum of wi; reflection and refraction share q (the
+// reflected wi has momentum b on wo's side, the refracted one on the other side), and the
+// event weights F^ and 1 - F^ at that q sum to 1 wherever both directions exist.
 
-// One lane of GlossyDielectric's value (without the weight).
-double dielectricValue(double n, const Vec3& wo, const Vec3& wi, float eta, TransportMode mode) {
-  if (!validEta(eta)) return 0.0;
-  const double fo = fresnelDielectric(wo.z, eta), fi = fresnelDielectric(wi.z, eta);
-  if (sameHemisphere(wo, wi)) return std::min(fo, fi) * reflectionLobe(n, wo, wi);
-  const Indices ix = indicesFor(wo, eta);
-  // Importance: eta_i^2 (flux conserved); Radiance: eta_o^2 (radiance / eta^2 invariant).
-  const double modeScale = mode == TransportMode::Importance ? ix.etaI * ix.etaI : ix.etaO * ix.etaO;
-  return std::min(1.0 - fo, 1.0 - fi) * modeScale * transmissionLobe(n, wo, wi, ix.etaO, ix.etaI);
+// The index on w's side and on the other side of the interface (relative IOR eta inside).
+struct Sides {
+  double own, other;
+};
+Sides sidesOf(const Vec3& w, float eta) { return w.z > 0.0f ? Sides{1.0, eta} : Sides{eta, 1.0}; }
+
+// Fresnel reflectance at tangential momentum k: the outside cosine is sqrt(1 - k^2); k >= 1
+// exists only inside (eta > 1) and is totally reflected.
+double fresnelAtMomentum(double k, float eta) {
+  if (!(k < 1.0)) return 1.0;
+  return fresnelDielectric(float(std::sqrt((1.0 - k) * (1.0 + k))), eta);
 }
 
-// Density of sampling wi with lane IOR eta (GlossyDielectric) or of the reflection lobe.
+// The symmetric Fresnel weight of a pair: the mean of both directions' reflectances.
+double meanFresnel(double kO, double kI, float eta) { return 0.5 * (fresnelAtMomentum(kO, eta) + fresnelAtMomentum(kI, eta)); }
+
+// N(w): the weighted share of w's kernel that scatters somewhere. Momenta inside the smaller
+// of the two disks (radii = the two indices) have both events, weights F^ + (1 - F^) = 1; those
+// between the radii have one event only: reflection (w on the denser side; weight
+// F^ = (F(w) + 1) / 2, the far direction being totally reflected) or refraction (w on the rarer
+// side; weight 1 - F^ = (1 - F(w)) / 2). Upper bound of the exact value (table masses are).
+double dielectricNorm(double n, double k, Sides s, double fresnelOfW) {
+  const double rLo = std::min(s.own, s.other), rHi = std::max(s.own, s.other);
+  const double mLo = glossy::tabulatedMassInDisk(n, k, rLo);
+  if (rLo == rHi) return mLo;
+  const double mHi = glossy::tabulatedMassInDisk(n, k, rHi);
+  const double share = s.own > s.other ? 0.5 * (1.0 + fresnelOfW) : 0.5 * (1.0 - fresnelOfW);
+  return mLo + share * (mHi - mLo);
+}
+
+// The pair's geometry: sides, momenta, kernel density.
+struct DielectricPair {
+  bool reflect;
+  Sides sO;
+  double etaI;  // index on wi's side
+  double kO, kI, density;
+};
+DielectricPair pairOf(double n, const Vec3& wo, const Vec3& wi, float eta) {
+  DielectricPair g;
+  g.reflect = sameHemisphere(wo, wi);
+  g.sO = sidesOf(wo, eta);
+  g.etaI = g.reflect ? g.sO.own : g.sO.other;
+  const double qx = g.sO.own * wo.x + g.etaI * wi.x, qy = g.sO.own * wo.y + g.etaI * wi.y;
+  g.kO = g.sO.own * tangentialLength(wo);
+  g.kI = g.etaI * tangentialLength(wi);
+  g.density = kernelDensity(n, qx * qx + qy * qy);
+  return g;
+}
+
+// One lane of GlossyDielectric's value (without the weight):
+//   W s p(q) / max(N(wo), N(wi)),  W = F^ (reflection) or 1 - F^ (refraction),
+// s = eta_i^2 (Importance) or eta_o^2 (Radiance): the planar density in momentum becomes one
+// in wi_t (|cos| dw = dA(wi_t) = dA(b) / eta_i^2); radiance / eta^2 is invariant.
+double dielectricValue(double n, const Vec3& wo, const Vec3& wi, float eta, TransportMode mode) {
+  if (!validEta(eta)) return 0.0;
+  const DielectricPair g = pairOf(n, wo, wi, eta);
+  if (g.density == 0.0) return 0.0;
+  const double fO = fresnelAtMomentum(g.kO, eta), fI = fresnelAtMomentum(g.kI, eta);
+  const double fMean = 0.5 * (fO + fI);
+  const double w = g.reflect ? fMean : 1.0 - fMean;
+  if (!(w > 0.0)) return 0.0;
+  const double norm = std::max(dielectricNorm(n, g.kO, g.sO, fO), dielectricNorm(n, g.kI, sidesOf(wi, eta), fI));
+  if (!(norm > 0.0)) return 0.0;
+  const double modeScale = g.reflect || mode == TransportMode::Radiance ? g.sO.own * g.sO.own : g.etaI * g.etaI;
+  return w * modeScale * g.density / norm;
+}
+
+// Density of sampling wi with lane IOR eta: q from the kernel, then reflection with
+// probability F^, refraction with 1 - F^ (no sample when the chosen event has no direction
+// with that momentum): the event's probability is its weight W, so f |cos| / pdf = s / eta_i^2
+// / max(N(wo), N(wi)), and the density is continuous up to the horizon.
 double dielectricPdf(double n, const Vec3& wo, const Vec3& wi, float eta) {
   if (!validEta(eta)) return 0.0;
-  const double fo = fresnelDielectric(wo.z, eta);
-  const double cosI = std::fabs(double(wi.z));
-  if (sameHemisphere(wo, wi)) {
-    const double qx = double(wo.x) + wi.x, qy = double(wo.y) + wi.y;
-    return fo * kernelDensity(n, qx * qx + qy * qy) * cosI;
-  }
-  const Indices ix = indicesFor(wo, eta);
-  const double qx = ix.etaO * wo.x + ix.etaI * wi.x, qy = ix.etaO * wo.y + ix.etaI * wi.y;
-  return (1.0 - fo) * ix.etaI * ix.etaI * kernelDensity(n, qx * qx + qy * qy) * cosI;
+  const DielectricPair g = pairOf(n, wo, wi, eta);
+  if (g.density == 0.0) return 0.0;
+  const double fMean = meanFresnel(g.kO, g.kI, eta);
+  return (g.reflect ? fMean : 1.0 - fMean) * g.etaI * g.etaI * g.density * std::fabs(double(wi.z));
 }
 
 // Draws a point of the kernel around `centre` (u2 -> radius, angle) and divides it by `scale`
@@ -167,7 +213,7 @@ std::optional<BsdfSample> glossyLobeSample(const Lobe& lobe, const Vec3& wo, flo
   if (degenerate(wo) || !validExponent(lobe.exponent)) return std::nullopt;
   const double n = lobe.exponent;
   const float side = wo.z > 0.0f ? 1.0f : -1.0f;
-  bool transmit = false;
+  bool transmit = false, dispersive = false;
   std::optional<Vec3> wi;
   float etaScale = 1.0f;
   if (lobe.kind == LobeKind::GlossyReflection) {
@@ -182,15 +228,24 @@ std::optional<BsdfSample> glossyLobeSample(const Lobe& lobe, const Vec3& wo, flo
   } else {
     const float heroEta = lobe.a.v[0];
     if (!validEta(heroEta)) return std::nullopt;
-    const double fo = fresnelDielectric(wo.z, heroEta);
-    if (uc < fo) {
-      wi = liftKernelSample(n, -double(wo.x), -double(wo.y), 1.0, u2, side);
-    } else {
-      const Indices ix = indicesFor(wo, heroEta);
-      wi = liftKernelSample(n, -ix.etaO * wo.x, -ix.etaO * wo.y, ix.etaI, u2, -side);
-      transmit = true;
-      etaScale = float(ix.etaI / ix.etaO);
-    }
+    // q around 0 from the kernel, b = q - a the scattered momentum, then the event.
+    const Sides sO = sidesOf(wo, heroEta);
+    const double ax = sO.own * wo.x, ay = sO.own * wo.y;
+    const double r = glossy::sampleKernelRadius(n, 1.0 - double(u2.x)), phi = kTwoPiD * double(u2.y);
+    const double bx = r * std::cos(phi) - ax, by = r * std::sin(phi) - ay;
+    const double kB = std::hypot(bx, by);
+    transmit = double(uc) >= meanFresnel(sO.own * tangentialLength(wo), kB, heroEta);
+    if (!(kB < (transmit ? sO.other : sO.own))) return std::nullopt;  // no such direction
+    const double etaI = transmit ? sO.other : sO.own;
+    const double x = bx / etaI, y = by / etaI, t2 = x * x + y * y;
+    if (!(t2 < 1.0)) return std::nullopt;
+    const Vec3 w(float(x), float(y), float((transmit ? -side : side) * std::sqrt(1.0 - t2)));
+    if (degenerate(w)) return std::nullopt;
+    wi = w;
+    if (transmit) etaScale = float(sO.other / sO.own);
+    // Lanes differ in density unless the event is reflection outside (same q plane for all
+    // lanes, the hero's event probability > 0 wherever any lane's value is).
+    dispersive = lobe.etaVaries && (transmit || wo.z < 0.0f);
   }
   if (!wi) return std::nullopt;
   BsdfSample s;
@@ -200,9 +255,9 @@ std::optional<BsdfSample> glossyLobeSample(const Lobe& lobe, const Vec3& wo, flo
   s.f = glossyLobeEval(lobe, wo, s.wi, mode);
   s.transmission = transmit;
   s.etaScale = etaScale;
-  // Refraction by the hero's IOR: the other lanes' lobes are elsewhere (their own values at
-  // wi are in f; spectral MIS needs glossyLobePdfForLane). Reflection is not dispersive.
-  s.dispersive = transmit && lobe.etaVaries;
+  // Chosen with the hero's IOR: the other lanes' own values at wi are in f; spectral MIS
+  // needs glossyLobePdfForLane.
+  s.dispersive = dispersive;
   return s;
 }
 

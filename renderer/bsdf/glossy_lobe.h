@@ -5,8 +5,10 @@
 // interface (GlossyDielectric, eta = lobe.a per wavelength; dispersive when lobe.etaVaries).
 // The lobe is the kernel (1 - |q|^2)^(n/2) of the tangential momentum mismatch
 // q = eta_o wo_t + eta_i wi_t in the projected-disk plane (renderer/bsdf/glossy_kernel.h),
-// normalised symmetrically by max(M(wo), M(wi)) (M = the kernel's share above the horizon);
-// GlossyReflection adds a reciprocal energy-compensation lobe (renderer/bsdf/glossy_albedo.h).
+// normalised symmetrically by the max of wo's and wi's share of the kernel that scatters
+// somewhere; GlossyReflection adds a reciprocal energy-compensation lobe
+// (renderer/bsdf/glossy_albedo.h); GlossyDielectric weights reflection and refraction by the
+// mean Fresnel reflectance of the pair, F^ and 1 - F^, which sum to 1 at every q.
 // Lobe-level entry points dispatched from lobes.cpp; conventions of bsdf.h (local frame, z up).
 #pragma once
 #include <optional>
