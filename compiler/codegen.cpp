@@ -14,6 +14,7 @@
 
 #include <functional>
 #include <map>
+#include <set>
 
 #include "compiler/abi.h"
 #include "compiler/canonical_ir.h"
@@ -46,6 +47,7 @@ class Codegen {
 
   std::unique_ptr<llvm::Module> run(const std::vector<int>& entries, std::string& error) {
     countCallSites(entries);
+    planOutlining(entries);
     for (size_t k = 0; k < entries.size(); ++k) {
       int e = entries[k];
       llvm::Function* fn = function(e, dependence_.buildsMaterial(e) ? dependence_.entryContext(e) : -1);
@@ -114,7 +116,9 @@ class Codegen {
     if (options_.inlineEverything) {
       uint64_t sites = callSites_[index];
       uint64_t size = inlinedSize(program_, index);
-      if (sites <= 1 || size <= options_.alwaysInlineSize || size * (sites - 1) <= options_.maxDuplicatedNodes)
+      if (outlined_.count(index))
+        fn->addFnAttr(llvm::Attribute::NoInline);
+      else if (sites <= 1 || size <= options_.alwaysInlineSize || size * (sites - 1) <= options_.maxDuplicatedNodes)
         fn->addFnAttr(llvm::Attribute::AlwaysInline);
     }
     functions_[key] = fn;
@@ -141,6 +145,20 @@ class Codegen {
     b_.CreateRet(result);
   }
 
+  // Instruction selection of one big function cannot be spread over threads; its parts can
+  // (parallel_emit.h). In an entry this big, every large function that loops (has a fold)
+  // stays a call: one call per loop costs little next to the loop it runs.
+  void planOutlining(const std::vector<int>& entries) {
+    if (!options_.inlineEverything) return;
+    for (int e : entries) {
+      uint64_t total = inlinedSize(program_, e);
+      if (total < options_.outlineLoopsInEntriesAbove) continue;
+      for (int f : loops_) {
+        if (f != e && inlinedSize(program_, f) >= options_.minOutlinedLoopSize) outlined_.insert(f);
+      }
+    }
+  }
+
   // Static call sites of each function reachable from the entries, and each one's own size.
   void countCallSites(const std::vector<int>& entries) {
     std::vector<int> work(entries.begin(), entries.end());
@@ -156,6 +174,7 @@ class Codegen {
         const Node* n = nodes.back();
         nodes.pop_back();
         ++size;
+        if (n->kind == Node::Kind::Fold) loops_.insert(f);
         if (n->kind == Node::Kind::Call || n->kind == Node::Kind::Fold) {
           ++callSites_[n->callee];
           work.push_back(n->callee);
@@ -706,6 +725,8 @@ class Codegen {
   std::map<FunctionKey, llvm::Function*> functions_;
   std::map<std::pair<std::string, bool>, std::pair<llvm::GlobalVariable*, llvm::GlobalVariable*>> imageGlobals_;  // path, cache
   std::map<int, uint64_t> callSites_, ownSize_;
+  std::set<int> loops_;     // functions whose own body has a fold
+  std::set<int> outlined_;  // functions kept out of line so a big entry can be emitted in parts
   std::vector<FunctionKey> pending_;
   int dependenceContext_ = -1;  // the wavelength-dependence context of the function being emitted
   llvm::Value* ctx_ = nullptr;

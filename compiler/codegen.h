@@ -19,6 +19,10 @@ struct CodegenOptions {
   // (own size times the extra call sites): they stay calls, which keeps compile time down.
   uint64_t maxDuplicatedNodes = 400;
   uint64_t alwaysInlineSize = 64;  // leaves this small are inlined wherever they are called
+  // Entries bigger than this keep their large loops (functions with a fold, at least
+  // minOutlinedLoopSize after inlining) out of line, so code generation can run in parts.
+  uint64_t outlineLoopsInEntriesAbove = 1200;
+  uint64_t minOutlinedLoopSize = 100;
 };
 
 std::string entrySymbol(size_t entryIndex);

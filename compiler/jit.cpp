@@ -7,6 +7,7 @@
 #include <llvm/ExecutionEngine/Orc/LLJIT.h>
 #include <llvm/IR/LegacyPassManager.h>
 #include <llvm/Passes/PassBuilder.h>
+#include <llvm/Transforms/Scalar/InstSimplifyPass.h>
 #include <llvm/Transforms/IPO/AlwaysInliner.h>
 #include <llvm/Transforms/InstCombine/InstCombine.h>
 #include <llvm/Transforms/Scalar/EarlyCSE.h>
@@ -26,6 +27,8 @@
 #include "compiler/canonical_ir.h"
 #include "compiler/codegen.h"
 #include "compiler/object_cache.h"
+#include "compiler/isel_barriers.h"
+#include "compiler/parallel_emit.h"
 #include "compiler/select_lowering.h"
 
 namespace tex::compiler {
@@ -33,7 +36,7 @@ namespace tex::compiler {
 namespace {
 
 // Bump on every change to code generation: it is part of every cache key.
-constexpr const char* kCompilerVersion = "tex-compiler-13";
+constexpr const char* kCompilerVersion = "tex-compiler-14";
 
 std::string errorText(llvm::Error error) { return llvm::toString(std::move(error)); }
 
@@ -54,13 +57,15 @@ struct Engine {
 
  private:
   Engine() {
-    // Two code-generation passes that cost compile time without speeding up texture code
-    // (measured with bench/bench_jit.cpp: about 1 ms less per O1 compile, same or better
-    // evaluation speed): AVX-512 domain reassignment and the machine instruction scheduler,
-    // which out-of-order x86 cores make nearly redundant. LLVM options are process-wide;
-    // the compiler is the process's only LLVM user.
-    static const char* argv[] = {"tex", "-disable-x86-domain-reassignment", "-enable-misched=false"};
-    llvm::cl::ParseCommandLineOptions(3, argv);
+    // Three code-generation passes that cost compile time without speeding up texture code
+    // (measured with bench/bench_jit.cpp: together about 1.5 ms less per O1 compile, the same
+    // evaluation speed within noise): AVX-512 domain reassignment, the machine instruction
+    // scheduler, which out-of-order x86 cores make nearly redundant, and machine loop-invariant
+    // code motion (texture loops are short folds over octaves or cells). LLVM options are
+    // process-wide; the compiler is the process's only LLVM user.
+    static const char* argv[] = {"tex", "-disable-x86-domain-reassignment", "-enable-misched=false",
+                                 "-disable-machine-licm"};
+    llvm::cl::ParseCommandLineOptions(4, argv);
     llvm::InitializeNativeTarget();
     llvm::InitializeNativeTargetAsmPrinter();
     auto jtmb = llvm::orc::JITTargetMachineBuilder::detectHost();
@@ -140,13 +145,15 @@ void optimise(llvm::Module& module, llvm::TargetMachine* tm, OptLevel opt) {
   // A lean pipeline instead of the default O1: everything is already specialised and marked
   // alwaysinline, so the work left is inlining, scalar clean-up and redundancy elimination.
   // Measured against O1 on the benchmark textures: the same speed of generated code, about
-  // half the optimisation time (bench/bench_jit.cpp, docs/abi.md).
+  // half the optimisation time (bench/bench_jit.cpp, docs/abi.md). InstSimplify rather than
+  // InstCombine: InstCombine spent most of its time on known-bits queries through integer
+  // hashes, and instruction selection does the combining that matters here (same speed).
   llvm::ModulePassManager mpm;
   mpm.addPass(llvm::AlwaysInlinerPass());
   llvm::FunctionPassManager fpm;
   fpm.addPass(llvm::SROAPass(llvm::SROAOptions::ModifyCFG));
   fpm.addPass(llvm::EarlyCSEPass());
-  fpm.addPass(llvm::InstCombinePass());
+  fpm.addPass(llvm::InstSimplifyPass());
   fpm.addPass(llvm::SimplifyCFGPass());
   fpm.addPass(llvm::GVNPass());
   mpm.addPass(llvm::createModuleToFunctionPassAdaptor(std::move(fpm)));
@@ -246,11 +253,11 @@ std::unique_ptr<CompiledModule> compile(const lang::ir::Program& program, const 
   if (!engine.jit) return fail("E0501", "the LLVM JIT could not start: " + engine.error);
 
   CompileStats stats;
-  std::string key = cacheKey(program, entries, options);
-  std::string directory = cacheDirectory(options.cacheDir);
-  std::string object;
+  std::string key = options.useCache ? cacheKey(program, entries, options) : std::string();
+  std::string directory = options.useCache ? cacheDirectory(options.cacheDir) : std::string();
+  std::vector<std::string> objects;
   if (options.useCache) {
-    CacheLookup lookup = loadCachedObject(directory, key, object);
+    CacheLookup lookup = loadCachedObjects(directory, key, objects);
     stats.cacheHit = lookup == CacheLookup::Hit;
     stats.cacheRejected = lookup == CacheLookup::Rejected;
   }
@@ -275,18 +282,27 @@ std::unique_ptr<CompiledModule> compile(const lang::ir::Program& program, const 
     module->setTargetTriple(tm->getTargetTriple().str());
     stats.codegenMs = lap();
     optimise(*module, tm, options.opt);
-    if (options.opt != OptLevel::Quick) lowerFloatSelectsToIntegerSelects(*module);
+    if (options.opt != OptLevel::Quick) {
+      lowerFloatSelectsToIntegerSelects(*module);
+      insertIntegerMultiplyBarriers(*module);
+    }
     stats.optimiseMs = lap();
     if (const char* dump = getenv("TEX_DUMP_IR"); dump && *dump) {
       std::error_code ec;
       llvm::raw_fd_ostream out(dump, ec);
       if (!ec) module->print(out, nullptr);
     }
-    if (!emitObject(*module, tm, object, error)) return fail("E0501", "LLVM code generation: " + error);
+    OptLevel opt = options.opt;
+    auto emit = [opt](llvm::Module& part, std::string& object, std::string& partError) {
+      llvm::TargetMachine* partTm = targetMachine(opt, partError);  // the calling thread's
+      return partTm && emitObject(part, partTm, object, partError);
+    };
+    if (!emitInParts(*module, emit, objects, error)) return fail("E0501", "LLVM code generation: " + error);
     stats.emitMs = lap();
-    if (options.useCache) storeCachedObject(directory, key, object);
+    if (options.useCache) storeCachedObjects(directory, key, objects);
   }
-  stats.objectBytes = object.size();
+  for (const std::string& object : objects) stats.objectBytes += object.size();
+  stats.objectCount = objects.size();
 
   auto linkStart = std::chrono::steady_clock::now();
   auto impl = std::make_unique<CompiledModule::Impl>();
@@ -297,10 +313,12 @@ std::unique_ptr<CompiledModule> compile(const lang::ir::Program& program, const 
     impl->dylib = &*dylib;
     impl->dylib->addToLinkOrder(engine.jit->getMainJITDylib());
   }
-  auto buffer = llvm::MemoryBuffer::getMemBufferCopy(object, "tex-object");
   auto result = std::unique_ptr<CompiledModule>(new CompiledModule(std::move(impl)));
-  if (auto err = engine.jit->addObjectFile(*result->impl_->dylib, std::move(buffer)))
-    return fail("E0501", "LLVM JIT: " + errorText(std::move(err)));
+  for (const std::string& object : objects) {
+    auto buffer = llvm::MemoryBuffer::getMemBufferCopy(object, "tex-object");
+    if (auto err = engine.jit->addObjectFile(*result->impl_->dylib, std::move(buffer)))
+      return fail("E0501", "LLVM JIT: " + errorText(std::move(err)));
+  }
   for (size_t k = 0; k < entries.size(); ++k) {
     auto address = engine.jit->lookup(*result->impl_->dylib, entrySymbol(k));
     if (!address) return fail("E0501", "LLVM JIT: " + errorText(address.takeError()));

@@ -32,6 +32,7 @@ struct CompileStats {
   double milliseconds = 0;    // the whole compile() call
   double codegenMs = 0, optimiseMs = 0, emitMs = 0, linkMs = 0;  // its phases
   size_t objectBytes = 0;
+  size_t objectCount = 0;  // object files: 2 when code generation was split across threads
 };
 
 // Compiled code for some entry functions of one program. Destroying it unloads the code.

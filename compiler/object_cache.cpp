@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <vector>
 
 namespace fs = std::filesystem;
 
@@ -17,7 +18,7 @@ namespace tex::compiler {
 
 namespace {
 
-constexpr char kMagic[8] = {'T', 'E', 'X', 'O', 'B', 'J', '1', '\n'};
+constexpr char kMagic[8] = {'T', 'E', 'X', 'O', 'B', 'J', '2', '\n'};
 
 uint64_t hash64(const std::string& s) {
   return llvm::xxh3_64bits(llvm::ArrayRef<uint8_t>(reinterpret_cast<const uint8_t*>(s.data()), s.size()));
@@ -41,6 +42,31 @@ bool getU64(const std::string& in, size_t& at, uint64_t& v) {
   return true;
 }
 
+// The payload: the number of objects, then each one's length and bytes.
+std::string packObjects(const std::vector<std::string>& objects) {
+  std::string out;
+  putU64(out, objects.size());
+  for (const std::string& o : objects) {
+    putU64(out, o.size());
+    out += o;
+  }
+  return out;
+}
+
+bool unpackObjects(const std::string& in, std::vector<std::string>& objects) {
+  size_t at = 0;
+  uint64_t count = 0;
+  if (!getU64(in, at, count) || count == 0 || count > 64) return false;
+  objects.clear();
+  for (uint64_t i = 0; i < count; ++i) {
+    uint64_t length = 0;
+    if (!getU64(in, at, length) || length > in.size() - at) return false;
+    objects.push_back(in.substr(at, length));
+    at += length;
+  }
+  return at == in.size();
+}
+
 }  // namespace
 
 std::string cacheDirectory(const std::string& configured) {
@@ -55,7 +81,7 @@ std::string cacheFilePath(const std::string& directory, const std::string& key) 
   return (fs::path(directory) / (hex(hash64(key)) + ".texobj")).string();
 }
 
-CacheLookup loadCachedObject(const std::string& directory, const std::string& key, std::string& object) {
+CacheLookup loadCachedObjects(const std::string& directory, const std::string& key, std::vector<std::string>& objects) {
   std::ifstream in(cacheFilePath(directory, key), std::ios::binary);
   if (!in) return CacheLookup::Miss;
   std::ostringstream buffer;
@@ -69,12 +95,14 @@ CacheLookup loadCachedObject(const std::string& directory, const std::string& ke
   at += keyLength;
   if (!getU64(data, at, objectLength) || !getU64(data, at, objectHash)) return CacheLookup::Rejected;
   if (objectLength != data.size() - at) return CacheLookup::Rejected;  // truncated or padded
-  object = data.substr(at);
-  if (hash64(object) != objectHash) return CacheLookup::Rejected;
+  std::string payload = data.substr(at);
+  if (hash64(payload) != objectHash) return CacheLookup::Rejected;
+  if (!unpackObjects(payload, objects)) return CacheLookup::Rejected;
   return CacheLookup::Hit;
 }
 
-bool storeCachedObject(const std::string& directory, const std::string& key, const std::string& object) {
+bool storeCachedObjects(const std::string& directory, const std::string& key, const std::vector<std::string>& objects) {
+  const std::string object = packObjects(objects);
   std::error_code ec;
   fs::create_directories(directory, ec);
   if (ec) return false;

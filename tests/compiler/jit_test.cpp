@@ -197,6 +197,36 @@ TEST(JitCache, MissThenHitThenCorruptEntriesAreRebuiltNeverLoaded) {
   EXPECT_NE(key.find(compiler::hostCpuDescription()), std::string::npos);
 }
 
+// Big entries are code-generated on two threads (compiler/parallel_emit.h): two object files
+// whose calls into each other resolve at link time, cached together and loaded together.
+TEST(JitCache, EntriesEmittedInTwoPartsLinkAndCacheTogether) {
+  fs::path dir = freshDir("tex_jit_parts_test");
+  Loaded l;
+  load(l, "scenes/marble.tex", "cells_tex");
+  WavelengthGroup group;
+  compiler::ShadingContext ctx{};
+  ctx.wavelengthCount = 4;
+  for (int i = 0; i < 4; ++i) ctx.lambdaNm[i] = group.lambdaNm[i];
+  for (compiler::OptLevel opt : {compiler::OptLevel::Quick, compiler::OptLevel::O1}) {
+    compiler::CompileOptions options;
+    options.opt = opt;
+    options.cacheDir = dir.string();
+    for (bool expectHit : {false, true}) {
+      auto module = compiler::compile(l.session.program(), {l.fn}, options, l.session.diags());
+      ASSERT_NE(module, nullptr);
+      EXPECT_EQ(module->stats().cacheHit, expectHit);
+      EXPECT_EQ(module->stats().objectCount, 2u) << "cells_tex should be emitted in two parts";
+      for (int i = 0; i < 16; ++i) {
+        compiler::HitAbi h = hitAbi((i + 0.5f) / 16, 1.0f - (i + 0.5f) / 16);
+        float jit[8] = {};
+        module->entry(l.fn)(&h, jit, &ctx);
+        Value interp = evaluate(l.session.program(), l.fn, {hitValue(h)}, group);
+        for (int k = 0; k < 3; ++k) ASSERT_TRUE(agree(jit[k], interp.f[k])) << "hit " << i << " lane " << k;
+      }
+    }
+  }
+}
+
 TEST(Jit, ExponentialSpecialisationIsAnErrorNotAnOutOfMemory) {
   std::string text = "fn g0(x: Float) -> Float = x * 1.5\n";
   for (int i = 1; i < 40; ++i)
