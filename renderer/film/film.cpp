@@ -106,13 +106,10 @@ FilmAccumulator::Colour FilmAccumulator::colourOf(const SampleRecord& r) const {
 
 inline void FilmAccumulator::splat(int px, int py, float a, const Colour& colour, const float* bins) {
   int64_t* s = &sums_[(size_t(py) * settings_.width + px) * stride_];
-  s[kSumA] += toFixed(a);
-  s[kSumA2] += toFixed(double(a) * a);
-  for (int k = 0; k < 3; ++k) {
-    const double ac = double(a) * colour.c[k];
-    s[kSumAC + k] += toFixed(ac);
-    s[kSumAC2 + k] += toFixed(ac * colour.c[k]);
-  }
+  const double a64 = a, ac0 = a64 * colour.c[0], ac1 = a64 * colour.c[1], ac2 = a64 * colour.c[2];
+  static_assert(kSumA2 == kSumA + 1 && kSumAC == kSumA + 2 && kSumAC2 == kSumA + 5, "two groups of four sums");
+  addFixed4(s + kSumA, a64, a64 * a, ac0, ac1);
+  addFixed4(s + kSumA + 4, ac2, ac0 * colour.c[0], ac1 * colour.c[1], ac2 * colour.c[2]);
   for (int b = 0; b < settings_.spectralBins; ++b) s[kSumBins + b] += toFixed(double(a) * bins[b]);
 }
 
@@ -121,14 +118,22 @@ inline void FilmAccumulator::splatScalar(int px, int py, float a, float value) {
   addFixed4(&sums_[(size_t(py) * settings_.width + px) * kScalarStride], a, double(a) * a, ac, ac * value);
 }
 
+// The pixels whose filter footprint covers film position (x, y) in pixel units: columns
+// x0..x1, rows y0..y1, clipped to the film (empty if x0 > x1 or y0 > y1).
+struct PixelSpan {
+  int x0, x1, y0, y1;
+};
+static PixelSpan footprintPixels(float radius, int width, int height, float x, float y) {
+  return {std::max(0, int(std::ceil(x - 0.5f - radius))), std::min(width - 1, int(std::floor(x - 0.5f + radius))),
+          std::max(0, int(std::ceil(y - 0.5f - radius))), std::min(height - 1, int(std::floor(y - 0.5f + radius)))};
+}
+
 // Calls visit(px, py, weight) for every pixel whose filter footprint covers film position
 // (x, y) in pixel units, with the separable filter weight times the record weight.
 template <typename Visit>
 static void forEachFootprintPixel(const Filter& filter, int width, int height, float x, float y, float recordWeight,
                                   Visit visit) {
-  const float radius = filter.radiusPixels();
-  const int x0 = std::max(0, int(std::ceil(x - 0.5f - radius))), x1 = std::min(width - 1, int(std::floor(x - 0.5f + radius)));
-  const int y0 = std::max(0, int(std::ceil(y - 0.5f - radius))), y1 = std::min(height - 1, int(std::floor(y - 0.5f + radius)));
+  const auto [x0, x1, y0, y1] = footprintPixels(filter.radiusPixels(), width, height, x, y);
   float wx[8];
   for (int px = x0; px <= x1 && px - x0 < 8; ++px) wx[px - x0] = filter.evaluate1d(x - (float(px) + 0.5f));
   for (int py = y0; py <= y1; ++py) {
@@ -154,16 +159,28 @@ void FilmAccumulator::add(const SampleRecord* records, size_t count) {
     addScalarBox(records, count);
     return;
   }
+  // Records of a chunk are spread over the whole film (that is the stratification), so nearly
+  // every pixel they reach misses the cache: fetch the pixels of the record kAhead places on
+  // while adding this one (3 x 3 pixels for the Gaussian, one cache line each without bins).
+  constexpr size_t kAhead = 8;
   for (size_t i = 0; i < count; ++i) {
-    // Records of a chunk are spread over the whole film (that is the stratification), so
-    // fetch the next records' pixels early.
-    if (i + 8 < count && settings_.filter == FilterKind::Box && settings_.width > 0 && settings_.height > 0) {
-      const SampleRecord& ahead = records[i + 8];
-      const int px = std::clamp(int(ahead.filmX * settings_.width), 0, settings_.width - 1);
-      const int py = std::clamp(int(ahead.filmY * settings_.height), 0, settings_.height - 1);
-      __builtin_prefetch(&sums_[(size_t(py) * settings_.width + px) * stride_], 1);
-    }
+    if (i + kAhead < count) prefetchFootprint(records[i + kAhead]);
     addGeneral(records[i]);
+  }
+}
+
+void FilmAccumulator::prefetchFootprint(const SampleRecord& r) const {
+  const int width = settings_.width, height = settings_.height;
+  if (!(r.filmX >= 0.0f && r.filmX < 1.0f && r.filmY >= 0.0f && r.filmY < 1.0f)) return;  // as addGeneral
+  const PixelSpan span = footprintPixels(filter_.radiusPixels(), width, height, r.filmX * float(width), r.filmY * float(height));
+  if (span.x0 > span.x1) return;
+  const char* const sums = reinterpret_cast<const char*>(sums_.data());
+  const size_t pixelBytes = size_t(stride_) * sizeof(int64_t), rowBytes = size_t(width) * pixelBytes;
+  for (int py = span.y0; py <= span.y1; ++py) {
+    const char* first = sums + size_t(py) * rowBytes + size_t(span.x0) * pixelBytes;
+    const char* last = sums + size_t(py) * rowBytes + size_t(span.x1 + 1) * pixelBytes - 1;
+    for (const char* line = first; line < last; line += 64) __builtin_prefetch(line, 1);
+    __builtin_prefetch(last, 1);  // the line of the span's last byte, when the span is not line-aligned
   }
 }
 

@@ -10,6 +10,8 @@
 #include <filesystem>
 
 #include "renderer/analytic/analytic_kernel.h"
+#include "renderer/color/color.h"
+#include "renderer/color/spectral_to_rgb.h"
 #include "renderer/film/film.h"
 #include "renderer/film/film_sink.h"
 #include "renderer/io/sample_file.h"
@@ -189,6 +191,70 @@ TEST(Film, FixedPointConversionRoundsExactlyOnEveryPath) {
   for (const SampleRecord& r : batch) single.add(r);
   batched.add(batch.data(), batch.size());
   EXPECT_EQ(single.sums(), batched.sums());
+}
+
+TEST(Film, ColourSplatRoundsExactlyLikeTheScalarConversion) {
+  // Colour films convert their eight sums four at a time (SSE2); the integers must be those of
+  // round-to-nearest-even with NaN -> 0 and saturation, the huge values' fallback included.
+  auto reference = [](double x) {
+    double scaled = x * 16777216.0;
+    if (scaled != scaled) return int64_t(0);
+    return int64_t(std::llrint(std::clamp(scaled, -4.0e18, 4.0e18)));
+  };
+  const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
+  const float values[] = {0.0f, 1.0f, 0.3f, -0.7f, 1.5f * 0x1p-24f, 1.0e8f, 3.0e9f, 1.0e12f, -1.0e30f, inf, nan};
+  const float weights[] = {1.0f, 0.25f, 3.0f, 1.0e-9f, 1.0e7f, -2.0f};
+  int checked = 0;
+  for (float w : weights) {
+    for (float v : values) {
+      SampleRecord r;
+      r.filmX = 0.5f, r.filmY = 0.5f, r.weight = w, r.wavelengthCount = 4;
+      r.lambdaNm = {450.0f, 530.0f, 600.0f, 650.0f};
+      r.values = {v, 0.5f * v, 0.25f, 2.0f * v};
+      FilmAccumulator film(settingsFor(1, 1, FilterKind::Box, ValueKind::SpectralRadianceOverPdf));
+      film.add(r);
+      const color::Rgb rgb = color::xyzToLinearSrgb(color::xyzFromRadianceOverPdf(r.lambdaNm.data(), r.values.data(), 4));
+      const double a = w, c[3] = {rgb.r, rgb.g, rgb.b};
+      const int64_t expected[8] = {reference(a),        reference(a * a),           reference(a * c[0]),
+                                   reference(a * c[1]), reference(a * c[2]),        reference(a * c[0] * c[0]),
+                                   reference(a * c[1] * c[1]), reference(a * c[2] * c[2])};
+      ASSERT_EQ(film.sumsPerPixel(), 8);
+      for (int k = 0; k < 8; ++k) ASSERT_EQ(film.sums()[k], expected[k]) << "w " << w << " v " << v << " sum " << k;
+      ++checked;
+    }
+  }
+  EXPECT_EQ(checked, 66);
+}
+
+TEST(Film, BatchedAddEqualsSingleAddsForEveryFilter) {
+  // The batched add fetches pixels ahead of the records it adds; records at the film's edges,
+  // off it and at NaN positions must neither fault nor change a sum.
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  std::vector<SampleRecord> records;
+  for (uint64_t i = 0; i < 3000; ++i) {
+    SampleRecord r;
+    r.filmX = sampling::randomUniform(7, i, 0), r.filmY = sampling::randomUniform(7, i, 1);
+    if (i % 50 == 0) r.filmX = 0.0f;
+    if (i % 70 == 0) r.filmY = 0.99999994f;
+    if (i % 90 == 0) r.filmX = 1.25f;
+    if (i % 110 == 0) r.filmY = nan;
+    if (i % 130 == 0) r.filmX = -0.5f;
+    r.weight = 0.5f + sampling::randomUniform(7, i, 2);
+    r.wavelengthCount = 4;
+    r.lambdaNm = {420.0f, 510.0f, 580.0f, 640.0f};
+    for (int j = 0; j < 4; ++j) r.values[size_t(j)] = sampling::randomUniform(7, i, 3 + j);
+    records.push_back(r);
+  }
+  for (FilterKind filter : {FilterKind::Box, FilterKind::Tent, FilterKind::Gaussian, FilterKind::Mitchell}) {
+    for (ValueKind kind : {ValueKind::SpectralRadianceOverPdf, ValueKind::Scalar}) {
+      const FilmSettings settings = settingsFor(37, 23, filter, kind, kind == ValueKind::Scalar ? 0 : 3);
+      FilmAccumulator single(settings), batched(settings);
+      for (const SampleRecord& r : records) single.add(r);
+      batched.add(records.data(), records.size());
+      EXPECT_EQ(single.sums(), batched.sums()) << filterName(filter);
+      EXPECT_NE(std::count(single.sums().begin(), single.sums().end(), int64_t(0)), int64_t(single.sums().size()));
+    }
+  }
 }
 
 TEST(Film, VarianceEstimateMatchesKnownNoise) {
