@@ -10,21 +10,25 @@
 
 namespace tex::compiler {
 
-static int32_t appendNode(const ShadingContext* ctx, const ClosureNode& node) {
+// The caller's node is a word array its code has just written with 4-byte stores over a
+// memset (docs/abi.md): a load spanning several of those stores cannot be forwarded from the
+// store buffer and waits for them to reach the cache, so the node is copied a word at a time
+// (volatile keeps the compiler from widening the loads), straight into its arena slot.
+extern "C" int32_t tex_rt_closure_append(const void* rawCtx, const void* node) {
+  const auto* ctx = static_cast<const ShadingContext*>(rawCtx);
   if (!ctx || !ctx->arena) return -1;
   ClosureArena* arena = ctx->arena;
   if (arena->count >= arena->capacity) {
     arena->overflow = 1;
     return -1;
   }
-  arena->nodes[arena->count] = node;
+  const volatile uint32_t* from = static_cast<const volatile uint32_t*>(node);
+  char* to = reinterpret_cast<char*>(&arena->nodes[arena->count]);
+  for (size_t i = 0; i < sizeof(ClosureNode) / 4; ++i) {
+    const uint32_t word = from[i];
+    std::memcpy(to + 4 * i, &word, 4);
+  }
   return arena->count++;
-}
-
-extern "C" int32_t tex_rt_closure_append(const void* rawCtx, const void* node) {
-  ClosureNode copy;
-  std::memcpy(&copy, node, sizeof copy);  // the caller's buffer is a word array, not a ClosureNode
-  return appendNode(static_cast<const ShadingContext*>(rawCtx), copy);
 }
 
 // Handles are process-specific, so compiled (and cached) code names images by path and
