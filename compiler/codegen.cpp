@@ -113,17 +113,37 @@ class Codegen {
     auto* fn = llvm::Function::Create(type, llvm::Function::InternalLinkage, name, *module_);
     fn->addFnAttr(llvm::Attribute::NoUnwind);
     fn->addFnAttr(llvm::Attribute::WillReturn);
-    if (options_.inlineEverything) {
-      uint64_t sites = callSites_[index];
-      uint64_t size = inlinedSize(program_, index);
-      if (outlined_.count(index))
-        fn->addFnAttr(llvm::Attribute::NoInline);
-      else if (sites <= 1 || size <= options_.alwaysInlineSize || size * (sites - 1) <= options_.maxDuplicatedNodes)
-        fn->addFnAttr(llvm::Attribute::AlwaysInline);
-    }
+    if (options_.inlineEverything) fn->addFnAttr(inlinedAtCalls(index) ? llvm::Attribute::AlwaysInline : llvm::Attribute::NoInline);
     functions_[key] = fn;
     pending_.push_back(key);
     return fn;
+  }
+
+  // Whether calls to function `index` are expanded in place (the body generated at the call
+  // site) rather than called: always unless it is outlined or would be duplicated too much.
+  bool inlinedAtCalls(int index) {
+    if (!options_.inlineEverything || outlined_.count(index)) return false;
+    uint64_t sites = callSites_[index];
+    uint64_t size = inlinedSize(program_, index);
+    return sites <= 1 || size <= options_.alwaysInlineSize || size * (sites - 1) <= options_.maxDuplicatedNodes;
+  }
+
+  // The body of the callee of a Call or Fold node generated in place with `args` as its
+  // parameters. The language is pure and first order, so this is exactly a call, and cheaper
+  // to compile than a call LLVM's inliner expands later.
+  llvm::Value* genInPlace(const Node* n, const std::vector<llvm::Value*>& args) {
+    bool contextual = dependenceContext_ >= 0 && dependence_.buildsMaterial(n->callee);
+    int context = contextual ? dependence_.calleeContext(dependenceContext_, n) : -1;
+    const lang::ir::Function& f = program_.functions[size_t(n->callee)];
+    std::vector<llvm::Value*> callerSlots(size_t(std::max<int>(f.numSlots, int(f.paramTypes.size()))), nullptr);
+    std::swap(slots_, callerSlots);
+    for (size_t i = 0; i < args.size() && i < slots_.size(); ++i) slots_[i] = args[i];
+    int callerContext = dependenceContext_;
+    dependenceContext_ = context;
+    llvm::Value* result = gen(f.body);
+    dependenceContext_ = callerContext;
+    std::swap(slots_, callerSlots);
+    return result;
   }
 
   // The callee of a Call or Fold node in the function being emitted.
@@ -147,14 +167,15 @@ class Codegen {
 
   // Instruction selection of one big function cannot be spread over threads; its parts can
   // (parallel_emit.h). In an entry this big, every large function that loops (has a fold)
-  // stays a call: one call per loop costs little next to the loop it runs.
+  // stays a call: one call per loop costs little next to the loop it runs. Steps of outer
+  // folds are left inline: they run once per iteration.
   void planOutlining(const std::vector<int>& entries) {
     if (!options_.inlineEverything) return;
     for (int e : entries) {
       uint64_t total = inlinedSize(program_, e);
       if (total < options_.outlineLoopsInEntriesAbove) continue;
       for (int f : loops_) {
-        if (f != e && inlinedSize(program_, f) >= options_.minOutlinedLoopSize) outlined_.insert(f);
+        if (f != e && !foldSteps_.count(f) && inlinedSize(program_, f) >= options_.minOutlinedLoopSize) outlined_.insert(f);
       }
     }
   }
@@ -174,7 +195,10 @@ class Codegen {
         const Node* n = nodes.back();
         nodes.pop_back();
         ++size;
-        if (n->kind == Node::Kind::Fold) loops_.insert(f);
+        if (n->kind == Node::Kind::Fold) {
+          loops_.insert(f);
+          foldSteps_.insert(n->callee);
+        }
         if (n->kind == Node::Kind::Call || n->kind == Node::Kind::Fold) {
           ++callSites_[n->callee];
           work.push_back(n->callee);
@@ -259,8 +283,10 @@ class Codegen {
       case Node::Kind::Or: return genShortCircuit(n);
       case Node::Kind::Prim: return genPrim(n);
       case Node::Kind::Call: {
-        std::vector<llvm::Value*> args = {ctx_};
+        std::vector<llvm::Value*> args;
         for (const Node* a : n->args) args.push_back(gen(a));
+        if (inlinedAtCalls(n->callee)) return genInPlace(n, args);
+        args.insert(args.begin(), ctx_);
         return b_.CreateCall(callee(n), args);
       }
       case Node::Kind::MakeRecord: {
@@ -346,7 +372,8 @@ class Codegen {
     llvm::Value* count = gen(n->args[0]);
     llvm::Value* init = gen(n->args[1]);
     llvm::Value* closure = n->args.size() > 2 ? gen(n->args[2]) : nullptr;
-    llvm::Function* step = callee(n);
+    const bool inPlace = inlinedAtCalls(n->callee);
+    llvm::Function* step = inPlace ? nullptr : callee(n);
     llvm::BasicBlock* pre = b_.GetInsertBlock();
     llvm::Function* fn = pre->getParent();
     auto* header = llvm::BasicBlock::Create(context_, "fold.header", fn);
@@ -360,11 +387,17 @@ class Codegen {
     acc->addIncoming(init, pre);
     b_.CreateCondBr(b_.CreateICmpSLT(i, count), body, done);
     b_.SetInsertPoint(body);
-    std::vector<llvm::Value*> args = {ctx_};
+    std::vector<llvm::Value*> args;
     if (closure) args.push_back(closure);
     args.push_back(acc);
     args.push_back(i);
-    llvm::Value* next = b_.CreateCall(step, args);
+    llvm::Value* next = nullptr;
+    if (inPlace) {
+      next = genInPlace(n, args);
+    } else {
+      args.insert(args.begin(), ctx_);
+      next = b_.CreateCall(step, args);
+    }
     llvm::BasicBlock* bodyEnd = b_.GetInsertBlock();
     i->addIncoming(b_.CreateAdd(i, b_.getInt32(1), "", /*HasNUW=*/false, /*HasNSW=*/true), bodyEnd);
     acc->addIncoming(next, bodyEnd);
@@ -725,7 +758,8 @@ class Codegen {
   std::map<FunctionKey, llvm::Function*> functions_;
   std::map<std::pair<std::string, bool>, std::pair<llvm::GlobalVariable*, llvm::GlobalVariable*>> imageGlobals_;  // path, cache
   std::map<int, uint64_t> callSites_, ownSize_;
-  std::set<int> loops_;     // functions whose own body has a fold
+  std::set<int> loops_;      // functions whose own body has a fold
+  std::set<int> foldSteps_;  // functions called as a fold's step
   std::set<int> outlined_;  // functions kept out of line so a big entry can be emitted in parts
   std::vector<FunctionKey> pending_;
   int dependenceContext_ = -1;  // the wavelength-dependence context of the function being emitted
