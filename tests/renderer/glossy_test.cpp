@@ -111,10 +111,14 @@ TEST(GlossyMassTable, ExactBeyondTheRimZoneAndOutsideTheDomain) {
     for (double R : {0.7, 1.0, 1.35, 2.4}) {
       const double reach = glossy::sampleKernelRadius(n, 1e-16);
       for (double d : {R - reach - 1e-9, 0.5 * (R - reach)})
-        if (d >= 0.0) EXPECT_EQ(glossy::tabulatedMassInDisk(n, d, R), 1.0) << "n = " << n << " R = " << R;
+        if (d >= 0.0) {
+          EXPECT_EQ(glossy::tabulatedMassInDisk(n, d, R), 1.0) << "n = " << n << " R = " << R;
+        }
       EXPECT_EQ(glossy::tabulatedMassInDisk(n, R + reach + 1e-9, R), 0.0);
       EXPECT_EQ(glossy::kernelMassInDisk(n, R + reach + 1e-9, R), 0.0);
-      if (R - reach - 1e-9 >= 0.0) EXPECT_GE(glossy::kernelMassInDisk(n, R - reach - 1e-9, R), 1.0 - 1e-15);
+      if (R - reach - 1e-9 >= 0.0) {
+        EXPECT_GE(glossy::kernelMassInDisk(n, R - reach - 1e-9, R), 1.0 - 1e-15);
+      }
     }
   struct Outside {
     double n, d, R;
@@ -413,7 +417,9 @@ TEST(GlossyFurnace, DielectricSampleWeightIsExactlyOneAwayFromTheRims) {
       }
     }
     EXPECT_GT(reflected, 100);
-    if (!(c.inside && c.theta > 50)) EXPECT_GT(refracted, 1000);  // 60 degrees inside: TIR
+    if (!(c.inside && c.theta > 50)) {
+      EXPECT_GT(refracted, 1000);  // 60 degrees inside: TIR
+    }
   }
 }
 

@@ -116,8 +116,9 @@ TEST(Sobol, GetMatchesTheScrambledDefinition) {
     const uint64_t index = k < 1000 ? rng.nextBits() : (uint64_t(rng.nextBits() & 7u) << 32) | rng.nextBits();
     for (int d : {2, 3, 17, 63, 64, 65, 500, 1023, 1024, 2000}) {
       ASSERT_EQ(sampler.get(index, d), bitsToUnitFloat(sampler.getBits(index, d))) << index << " " << d;
-      if (index >> 32 == 0 && d < kSobolDimensions)
+      if (index >> 32 == 0 && d < kSobolDimensions) {
         ASSERT_EQ(sampler.getBits(index, d), owenScramble(sobolBits(uint32_t(index), d), sobolScrambleSeed(31, d, 0)));
+      }
     }
   }
   for (uint32_t x : {0u, 1u, 0x800000u, 0xffffffu, 0x12345678u, 0xffffffffu}) EXPECT_EQ(reverseLow24(x), reverseBits32(x) >> 8);
