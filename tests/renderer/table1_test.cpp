@@ -19,7 +19,7 @@
 namespace tex::render {
 namespace {
 
-constexpr int kRes = 16;  // small: the glossy lobe costs ~15 us per path (quadrature)
+constexpr int kRes = 16;  // small, so the references stay a few seconds in the test command
 constexpr int kBlock = 4;  // pixels per block side for the agreement Z-test
 
 struct Table1Scene {
