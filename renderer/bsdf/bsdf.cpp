@@ -36,6 +36,10 @@ float shadingNormalCorrection(const PairCosines& c, TransportMode mode) {
 
 bool Bsdf::add(const Lobe& lobe) {
   if (count_ >= kMaxLobes) return false;
+  selection_[count_] = selectionWeight(lobe);
+  const bool nonSpecular = !lobeIsSpecular(lobe.kind);
+  hasNonSpecular_ = hasNonSpecular_ || (nonSpecular && selection_[count_] > 0.0f);
+  hasDispersiveDensity_ = hasDispersiveDensity_ || (nonSpecular && lobe.etaVaries);
   lobes_[count_++] = lobe;
   return true;
 }
@@ -44,13 +48,14 @@ bool Bsdf::setCoat(const Lobe& coat) {
   if (hasCoat_ || (coat.kind != LobeKind::SmoothDielectric && coat.kind != LobeKind::RoughDielectric)) return false;
   coat_ = coat;
   hasCoat_ = true;
+  coatSelection_ = selectionWeight(coat);
+  hasNonSpecular_ = hasNonSpecular_ || (!coatIsSpecular(coat_) && coatSelection_ > 0.0f);
   return true;
 }
 
 // Sum of |weight| over all 8 lanes. Lanes past the group's count are zero (spectrum.h), so this
 // is count * (mean over the group): proportional to the mean, without needing the count.
-float Bsdf::selectionWeight(int i) const {
-  const Lobe& l = i < count_ ? lobes_[i] : coat_;
+float Bsdf::selectionWeight(const Lobe& l) {
   float sum = 0.0f;
   for (int lane = 0; lane < kLanes; ++lane) sum += std::fabs(l.weight.v[lane]);
   return std::isfinite(sum) ? sum : 0.0f;
@@ -61,24 +66,12 @@ float Bsdf::componentWeights(const Vec3& wo, float* weights) const {
   const float coatShare = hasCoat_ ? coatSelectionReflectance(coat_, wo) : 0.0f;
   float total = 0.0f;
   for (int i = 0; i < count_; ++i) {
-    weights[i] = selectionWeight(i);
+    weights[i] = selection_[i];
     if (hasCoat_ && lobes_[i].underCoat) weights[i] *= 1.0f - coatShare;
     total += weights[i];
   }
-  weights[count_] = hasCoat_ ? selectionWeight(count_) * coatShare : 0.0f;
+  weights[count_] = hasCoat_ ? coatSelection_ * coatShare : 0.0f;
   return total + weights[count_];
-}
-
-bool Bsdf::hasNonSpecular() const {
-  for (int i = 0; i < count_; ++i)
-    if (!lobeIsSpecular(lobes_[i].kind) && selectionWeight(i) > 0.0f) return true;
-  return hasCoat_ && !coatIsSpecular(coat_) && selectionWeight(count_) > 0.0f;
-}
-
-bool Bsdf::hasDispersiveDensity() const {
-  for (int i = 0; i < count_; ++i)
-    if (lobes_[i].etaVaries && !lobeIsSpecular(lobes_[i].kind)) return true;
-  return false;
 }
 
 Spectrum Bsdf::localEval(const Vec3& wo, const Vec3& wi, TransportMode mode) const {
@@ -101,6 +94,10 @@ Spectrum Bsdf::localEval(const Vec3& wo, const Vec3& wi, TransportMode mode) con
 float Bsdf::localPdf(const Vec3& wo, const Vec3& wi, TransportMode mode, int lane) const {
   float weights[kMaxLobes + 1];
   const float total = componentWeights(wo, weights);
+  return localPdf(wo, wi, mode, lane, weights, total);
+}
+
+float Bsdf::localPdf(const Vec3& wo, const Vec3& wi, TransportMode mode, int lane, const float* weights, float total) const {
   if (!(total > 0.0f)) return 0.0f;
   float pdfW = 0.0f;
   for (int i = 0; i < count_; ++i)
@@ -174,10 +171,10 @@ std::optional<BsdfSample> Bsdf::sample(const Vec3& woWorld, float uc, Vec2 u2, T
   } else {
     // The direction could have come from any non-specular component: the mixture's f and pdf.
     s->f = localEval(wo, wi, mode);
-    s->pdfW = localPdf(wo, wi, mode, 0);
+    s->pdfW = localPdf(wo, wi, mode, 0, weights, total);
     if (!(s->pdfW > 0.0f)) return std::nullopt;
     // Every lane's density differs at this vertex when a lobe's does (bsdf.h, `dispersive`).
-    s->dispersive = s->dispersive || hasDispersiveDensity();
+    s->dispersive = s->dispersive || hasDispersiveDensity_;
   }
   s->f *= shadingNormalCorrection(c, mode);
   s->wi = wiWorld;

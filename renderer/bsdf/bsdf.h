@@ -41,6 +41,10 @@ enum class LobeKind : uint8_t {
   ThinDielectric,     // a thin slab (both interfaces, internal bounces summed); eta = a
   GlossyReflection,   // the glossy model (docs/glossy-model.md): exponent n, reflectance = weight
   GlossyDielectric,   // the glossy model around both the mirror and the refracted direction; eta = a
+  // Sheen (renderer/bsdf/sheen_lobe.h): the Charlie sheen, colour = weight, alpha = roughness; and
+  // a Lambertian base under one: albedo = weight, the sheen's colour = a, its alpha = roughness.
+  Sheen,
+  LambertianUnderSheen,
 };
 
 // One lobe with its weight. Kinds are native renderer code; materials select them through the
@@ -73,7 +77,9 @@ struct BsdfSample {
 Spectrum lobeEval(const Lobe& lobe, const Vec3& wo, const Vec3& wi, TransportMode mode);
 float lobePdf(const Lobe& lobe, const Vec3& wo, const Vec3& wi, TransportMode mode);
 std::optional<BsdfSample> lobeSample(const Lobe& lobe, const Vec3& wo, float uc, Vec2 u2, TransportMode mode);
-bool lobeIsSpecular(LobeKind kind);
+inline bool lobeIsSpecular(LobeKind kind) {
+  return kind == LobeKind::SmoothDielectric || kind == LobeKind::SmoothConductor || kind == LobeKind::ThinDielectric;
+}
 // The density lobeSample would have had for wi if lane `lane`'s parameters (its eta) had
 // chosen the direction instead of the hero's (lane 0): spectral MIS over the group needs it.
 // Equal to lobePdf for lobes that do not depend on the wavelength.
@@ -113,7 +119,10 @@ class Bsdf {
   int lobeCount() const { return count_; }
   const Lobe& lobe(int i) const { return lobes_[i]; }
   bool empty() const { return count_ == 0; }
-  bool hasNonSpecular() const;
+  bool hasNonSpecular() const { return hasNonSpecular_; }
+  // A non-specular lobe whose density differs between the group's lanes (rough or glossy
+  // dispersive: etaVaries).
+  bool hasDispersiveDensity() const { return hasDispersiveDensity_; }
   const Frame& frame() const { return frame_; }
   const Vec3& geometricNormal() const { return ng_; }
 
@@ -135,20 +144,27 @@ class Bsdf {
   std::optional<BsdfSample> sample(const Vec3& woWorld, float uc, Vec2 u2, TransportMode mode) const;
 
  private:
-  float selectionWeight(int i) const;
+  static float selectionWeight(const Lobe& lobe);
   // Selection weights for this wo of the lobes and, at index count_, of the coat; the total.
   float componentWeights(const Vec3& wo, float* weights) const;
   // Sum of the non-specular lobes' values (base lobes attenuated by the coat) and the coat's.
   Spectrum localEval(const Vec3& wo, const Vec3& wi, TransportMode mode) const;
-  // Selection-weighted density of the non-specular components (lane: which eta is the hero).
+  // Selection-weighted density of the non-specular components (lane: which eta is the hero),
+  // for componentWeights' weights and total at this wo.
+  float localPdf(const Vec3& wo, const Vec3& wi, TransportMode mode, int lane, const float* weights, float total) const;
   float localPdf(const Vec3& wo, const Vec3& wi, TransportMode mode, int lane) const;
-  bool hasDispersiveDensity() const;
   Frame frame_;
   Vec3 ng_{0, 0, 1};
   Lobe lobes_[kMaxLobes];
   int count_ = 0;
   Lobe coat_;
   bool hasCoat_ = false;
+  // What add() and setCoat() learn once instead of at every query: each lobe's selection
+  // weight (selectionWeight), the coat's, and the flags the integrator asks for per vertex.
+  float selection_[kMaxLobes] = {};
+  float coatSelection_ = 0;
+  bool hasNonSpecular_ = false;
+  bool hasDispersiveDensity_ = false;  // a non-specular lobe with etaVaries
 };
 
 }  // namespace tex::render

@@ -7,6 +7,7 @@
 #include "renderer/bsdf/bsdf.h"
 #include "renderer/bsdf/glossy_lobe.h"
 #include "renderer/bsdf/microfacet.h"
+#include "renderer/bsdf/sheen_lobe.h"
 #include "renderer/bsdf/bsdf_constants.h"
 #include "renderer/core/warp.h"
 
@@ -110,10 +111,6 @@ std::optional<BsdfSample> conductorSample(const Lobe& lobe, const Vec3& wo) {
 
 }  // namespace
 
-bool lobeIsSpecular(LobeKind kind) {
-  return kind == LobeKind::SmoothDielectric || kind == LobeKind::SmoothConductor || kind == LobeKind::ThinDielectric;
-}
-
 Spectrum lobeEval(const Lobe& lobe, const Vec3& wo, const Vec3& wi, TransportMode mode) {
   switch (lobe.kind) {
     case LobeKind::Lambertian:
@@ -129,6 +126,9 @@ Spectrum lobeEval(const Lobe& lobe, const Vec3& wo, const Vec3& wi, TransportMod
       return roughConductorEval(lobe, wo, wi);
     case LobeKind::RoughDielectric:
       return roughDielectricEval(lobe, wo, wi, mode);
+    case LobeKind::Sheen:
+    case LobeKind::LambertianUnderSheen:
+      return sheenLobeEval(lobe, wo, wi);
   }
   return Spectrum();
 }
@@ -148,6 +148,9 @@ float lobePdf(const Lobe& lobe, const Vec3& wo, const Vec3& wi, TransportMode mo
       return roughConductorPdf(lobe, wo, wi);
     case LobeKind::RoughDielectric:
       return roughDielectricPdfForLane(lobe, wo, wi, 0);
+    case LobeKind::Sheen:
+    case LobeKind::LambertianUnderSheen:
+      return sheenLobePdf(wo, wi);
   }
   return 0.0f;
 }
@@ -181,6 +184,9 @@ std::optional<BsdfSample> lobeSample(const Lobe& lobe, const Vec3& wo, float uc,
       return roughDielectricSample(lobe, wo, uc, u2, mode);
     case LobeKind::ThinDielectric:
       return thinDielectricSample(lobe, wo, uc);
+    case LobeKind::Sheen:
+    case LobeKind::LambertianUnderSheen:
+      return sheenLobeSample(lobe, wo, u2);
   }
   return std::nullopt;
 }

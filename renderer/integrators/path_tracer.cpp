@@ -15,13 +15,6 @@ void terminateSecondaryWavelengths(Spectrum& beta, int count) {
   for (int i = 1; i < kLanes; ++i) beta.v[i] = 0.0f;
 }
 
-// A lobe whose density differs between the group's lanes (rough or glossy dispersive).
-bool hasDispersiveDensity(const Bsdf& bsdf) {
-  for (int i = 0; i < bsdf.lobeCount(); ++i)
-    if (bsdf.lobe(i).etaVaries && !lobeIsSpecular(bsdf.lobe(i).kind)) return true;
-  return false;
-}
-
 // Ray differentials at the first hit (Igehy 1999, as in pbrt-v4 section 10.1): where the
 // camera rays of the neighbouring pixels meet the hit's tangent plane, and the uv change that
 // goes with it (least squares on dpdu, dpdv).
@@ -206,7 +199,7 @@ Spectrum PathTracer::radiance(uint64_t index, const Ray& primary, const PixelFoo
     // Whether this vertex's BSDF density differs between the group's lanes (a rough
     // dispersive lobe) and the path still carries them all: then the BSDF technique's density
     // for MIS against light sampling is the mean over the lanes.
-    const bool mixLanes = settings_.spectralMode == SpectralMode::Mis && !terminated && n > 1 && hasDispersiveDensity(bsdf);
+    const bool mixLanes = settings_.spectralMode == SpectralMode::Mis && !terminated && n > 1 && bsdf.hasDispersiveDensity();
     const auto bsdfTechniquePdf = [&](const Vec3& wi, float heroPdfW) {
       if (!mixLanes) return heroPdfW;
       float sum = heroPdfW;
