@@ -53,6 +53,19 @@ bool Bsdf::setCoat(const Lobe& coat) {
   return true;
 }
 
+void Bsdf::copyLobesFrom(const Bsdf& other) {
+  count_ = other.count_;
+  for (int i = 0; i < count_; ++i) {
+    lobes_[i] = other.lobes_[i];
+    selection_[i] = other.selection_[i];
+  }
+  hasCoat_ = other.hasCoat_;
+  if (hasCoat_) coat_ = other.coat_;
+  coatSelection_ = other.coatSelection_;
+  hasNonSpecular_ = other.hasNonSpecular_;
+  hasDispersiveDensity_ = other.hasDispersiveDensity_;
+}
+
 // Sum of |weight| over all 8 lanes. Lanes past the group's count are zero (spectrum.h), so this
 // is count * (mean over the group): proportional to the mean, without needing the count.
 float Bsdf::selectionWeight(const Lobe& l) {

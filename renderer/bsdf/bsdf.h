@@ -115,6 +115,11 @@ class Bsdf {
   // another kind. Lobes flagged underCoat without a coat are not attenuated.
   bool setCoat(const Lobe& coat);
   bool hasCoat() const { return hasCoat_; }
+  // Replaces this Bsdf's lobes and coat by `other`'s, keeping its own frame and normal: a
+  // Bsdf without lobes then behaves as if `other`'s had been added to it (replaying a memoised
+  // material evaluation, renderer/material/material_memo.h). Storage past the lobe count, and
+  // the coat's without a coat, is not copied (nothing reads it).
+  void copyLobesFrom(const Bsdf& other);
   const Lobe& coat() const { return coat_; }
   int lobeCount() const { return count_; }
   const Lobe& lobe(int i) const { return lobes_[i]; }

@@ -5,6 +5,7 @@
 
 #include "renderer/material/closure_lobes.h"
 #include "renderer/material/gltf_material.h"
+#include "renderer/material/material_memo.h"
 #include "renderer/material/tex_binding.h"
 #include "renderer/spectra/rgb_spectrum.h"
 
@@ -36,6 +37,7 @@ struct MaterialSystem::Impl {
   std::vector<uint8_t> emissive;       // per material slot
   std::vector<float> averageEmission;  // per material slot
   mutable std::atomic<uint64_t> failures{0};
+  uint64_t memoId = newMaterialMemoId();  // this system's key in the per-thread memo
 
   int slot(int material) const {
     return material >= 0 && size_t(material) < bindingOfMaterial.size() ? material : int(scene->materials.size());
@@ -127,15 +129,26 @@ bool MaterialSystem::shade(int material, const ShadingPoint& point, const Wavele
   const int s = im.slot(material);
   emission = Spectrum();
   if (im.bindingOfMaterial[size_t(s)] >= 0) {
-    const ClosureEvaluation ev =
-        evaluateBinding(im.compiled.bindings[size_t(im.bindingOfMaterial[size_t(s)])], point, lambda, &bsdf, emission);
-    if (!ev.ok) {
+    const CompiledBinding& binding = im.compiled.bindings[size_t(im.bindingOfMaterial[size_t(s)])];
+    // A Hit-independent material replays this path's earlier evaluation (material_memo.h);
+    // only onto an empty Bsdf, where the replay equals evaluating.
+    const bool memo = binding.hitIndependent && bsdf.lobeCount() == 0 && !bsdf.hasCoat();
+    if (memo) {
+      if (const MaterialMemoEntry* e = materialMemoFind(im.memoId, s, true, lambda)) {
+        bsdf.copyLobesFrom(e->bsdf);
+        emission = e->emission;
+        if (!e->ok) im.failures.fetch_add(1, std::memory_order_relaxed);
+        return e->ok;
+      }
+    }
+    const bool ok = evaluateBinding(binding, point, lambda, &bsdf, emission).ok;
+    if (!ok) {
       im.failures.fetch_add(1, std::memory_order_relaxed);
       bsdf = Bsdf(bsdf.frame(), bsdf.geometricNormal());
       emission = Spectrum();
-      return false;
     }
-    return true;
+    if (memo) materialMemoStore(im.memoId, s, lambda, ok, emission, &bsdf);
+    return ok;
   }
   if (!im.gltf(s)) {
     Lobe grey;
@@ -167,10 +180,14 @@ Spectrum MaterialSystem::emission(int material, const ShadingPoint& point, const
   if (!im.emissive[size_t(s)]) return Spectrum();
   if (im.bindingOfMaterial[size_t(s)] < 0)
     return im.gltf(s) ? gltfEmission(*im.scene, *im.gltf(s), point, lambda) : Spectrum();
+  const CompiledBinding& binding = im.compiled.bindings[size_t(im.bindingOfMaterial[size_t(s)])];
+  if (binding.hitIndependent) {
+    if (const MaterialMemoEntry* memo = materialMemoFind(im.memoId, s, false, lambda)) return memo->emission;
+  }
   Spectrum e;
-  const ClosureEvaluation ev =
-      evaluateBinding(im.compiled.bindings[size_t(im.bindingOfMaterial[size_t(s)])], point, lambda, nullptr, e);
-  return ev.ok ? e : Spectrum();
+  if (!evaluateBinding(binding, point, lambda, nullptr, e).ok) e = Spectrum();
+  if (binding.hitIndependent) materialMemoStore(im.memoId, s, lambda, true, e, nullptr);
+  return e;
 }
 
 bool MaterialSystem::isEmissive(int material) const { return impl_->emissive[size_t(impl_->slot(material))] != 0; }

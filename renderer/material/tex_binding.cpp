@@ -6,6 +6,7 @@
 
 #include "lang/session.h"
 #include "lang/types.h"
+#include "renderer/material/hit_dependence.h"
 
 namespace tex::render {
 
@@ -236,6 +237,8 @@ bool compileBindings(const SceneDescription& scene, int wavelengths, bool quick,
     error = problems + renderedDiagnostics(session);
     return false;
   }
+  for (size_t i = 0; i < bindings.size(); ++i)
+    bindings[i].hitIndependent = resultIgnoresParameter(session.program(), entries[i], 0);
   const compiler::CompileOptions options = materialCompileOptions(wavelengths, quick, useCache);
   out.module = compiler::compile(session.program(), entries, options, session.diags());
   if (!out.module) {

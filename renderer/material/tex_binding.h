@@ -21,6 +21,9 @@ struct CompiledBinding {
   compiler::EntryFn entry = nullptr;
   std::vector<SpectrumSource> spectrumArgs;  // after the Hit, in order, one Spectrum each
   std::string name;                          // "file.tex:entry", for messages
+  // The closure tree provably does not depend on the Hit (hit_dependence.h): it is a function
+  // of the wavelengths alone, and one evaluation serves every hit of a wavelength group.
+  bool hitIndependent = false;
 };
 
 struct CompiledBindings {

@@ -1,0 +1,143 @@
+// The Hit-dependence analysis (renderer/material/hit_dependence.h) and the per-thread memo it
+// enables (material_memo.h): materials whose closure tree cannot depend on the Hit are
+// recognised through lets, calls, folds and captures, anything reading the Hit is not, and
+// replayed evaluations equal fresh ones bit for bit, per wavelength group and per system.
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+#include "renderer/material/closure_lobes.h"
+#include "renderer/material/material_system.h"
+#include "renderer/material/tex_binding.h"
+#include "tests/renderer/scene_fixtures.h"
+
+namespace tex::render {
+namespace {
+
+const char* kMaterials =
+    "fn ignore(h: Hit, c: Color) -> Color = c\n"
+    "fn shade_of(h: Hit) -> Color = rgb(h.uv.y, 0.2, 0.2)\n"
+    // Hit-independent:
+    "export fn plain(h: Hit) -> Material = diffuse(rgb(0.8, 0.5, 0.2))\n"
+    "export fn helper(h: Hit) -> Material = diffuse(ignore(h, rgb(0.3, 0.4, 0.5)))\n"
+    "export fn folded(h: Hit) -> Material = diffuse(rgb(fold(4, 0.1, |acc, i| acc + 0.1), 0.5, 0.5))\n"
+    "export fn spectral(h: Hit) -> Material = diffuse(lambda_nm * 0.001)\n"
+    "export fn light(h: Hit) -> Material = add_material(diffuse(rgb(0.5)), emission(rgb(2.0, 1.0, 0.5)))\n"
+    // Hit-dependent:
+    "export fn by_uv(h: Hit) -> Material = diffuse(rgb(h.uv.x, 0.5, 0.5))\n"
+    "export fn by_let(h: Hit) -> Material {\n  let u = h.p.x;\n  diffuse(rgb(0.5, u, 0.5))\n}\n"
+    "export fn by_call(h: Hit) -> Material = diffuse(shade_of(h))\n"
+    "export fn by_if(h: Hit) -> Material = if h.uv.x > 0.5 { diffuse(rgb(0.9)) } else { diffuse(rgb(0.1)) }\n"
+    "export fn by_fold(h: Hit) -> Material = diffuse(rgb(fold(3, h.uv.x, |acc, i| acc * 0.5), 0.5, 0.5))\n"
+    "export fn by_capture(h: Hit) -> Material = diffuse(rgb(fold(3, 0.0, |acc, i| acc + h.uv.y), 0.5, 0.5))\n"
+    "export fn glowing_uv(h: Hit) -> Material = emission(rgb(h.uv.x, 1.0, 1.0))\n";
+
+const std::vector<std::string> kIndependent = {"plain", "helper", "folded", "spectral", "light"};
+const std::vector<std::string> kDependent = {"by_uv", "by_let", "by_call", "by_if", "by_fold", "by_capture", "glowing_uv"};
+
+// A scene whose material i is bound to entry i (no geometry: only the material system is used).
+SceneDescription sceneWith(const std::vector<std::string>& entries) {
+  const std::string file = test::writeTexModule("memo_mats", kMaterials);
+  SceneDescription scene;
+  for (const std::string& e : entries) {
+    GltfMaterial m;
+    m.name = e;
+    scene.materials.push_back(m);
+    TexMaterialBinding b;
+    b.file = file;
+    b.entry = e;
+    b.matchMaterial = e;
+    scene.texMaterials.push_back(b);
+  }
+  return scene;
+}
+
+std::vector<std::string> allEntries() {
+  std::vector<std::string> all = kIndependent;
+  all.insert(all.end(), kDependent.begin(), kDependent.end());
+  return all;
+}
+
+ShadingPoint pointAt(float u, float v, float x) {
+  ShadingPoint p;
+  p.p = Vec3(x, 0.2f, 0.3f);
+  p.ng = p.ns = Vec3(0, 0, 1);
+  p.uv = Vec2(u, v);
+  return p;
+}
+
+bool sameBits(const Spectrum& a, const Spectrum& b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+bool sameLobes(const Bsdf& a, const Bsdf& b) {
+  if (a.lobeCount() != b.lobeCount() || a.hasCoat() != b.hasCoat()) return false;
+  for (int i = 0; i < a.lobeCount(); ++i)
+    if (a.lobe(i).kind != b.lobe(i).kind || !sameBits(a.lobe(i).weight, b.lobe(i).weight)) return false;
+  return true;
+}
+
+TEST(HitDependence, ClassifiesMaterialsThroughLetsCallsFoldsAndCaptures) {
+  const SceneDescription scene = sceneWith(allEntries());
+  CompiledBindings compiled;
+  std::string error;
+  ASSERT_TRUE(compileBindings(scene, 4, false, false, compiled, error)) << error;
+  ASSERT_EQ(compiled.bindings.size(), kIndependent.size() + kDependent.size());
+  for (size_t i = 0; i < compiled.bindings.size(); ++i) {
+    const bool expected = i < kIndependent.size();
+    EXPECT_EQ(compiled.bindings[i].hitIndependent, expected) << compiled.bindings[i].name;
+  }
+}
+
+TEST(MaterialMemo, ReplaysEqualFreshEvaluationsPerWavelengthGroup) {
+  const SceneDescription scene = sceneWith(allEntries());
+  std::string error;
+  const std::unique_ptr<MaterialSystem> materials = MaterialSystem::create(scene, MaterialOptions{}, error);
+  ASSERT_TRUE(materials) << error;
+  CompiledBindings direct;  // the same materials, evaluated without the memo
+  ASSERT_TRUE(compileBindings(scene, 4, false, false, direct, error)) << error;
+  const Wavelengths groups[2] = {color::sampleWavelengthGroup(0.3f, 4), color::sampleWavelengthGroup(0.7f, 4)};
+  const ShadingPoint points[3] = {pointAt(0.2f, 0.3f, 0.1f), pointAt(0.8f, 0.6f, 0.9f), pointAt(0.4f, 0.9f, -0.5f)};
+  int dependentDifferences = 0;
+  // Groups alternate (A, B, A) and points change within a group, as along paths.
+  for (int round = 0; round < 3; ++round) {
+    const Wavelengths& lambda = groups[round % 2];
+    for (size_t m = 0; m < direct.bindings.size(); ++m) {
+      Bsdf first;
+      for (const ShadingPoint& p : points) {
+        Bsdf viaSystem(Frame(), Vec3(0, 0, 1)), fresh(Frame(), Vec3(0, 0, 1));
+        Spectrum eSystem, eFresh;
+        ASSERT_TRUE(materials->shade(int(m), p, lambda, viaSystem, eSystem));
+        ASSERT_TRUE(evaluateBinding(direct.bindings[m], p, lambda, &fresh, eFresh).ok);
+        EXPECT_TRUE(sameLobes(viaSystem, fresh)) << direct.bindings[m].name << " round " << round;
+        EXPECT_TRUE(sameBits(eSystem, eFresh)) << direct.bindings[m].name << " round " << round;
+        const Spectrum emitted = materials->emission(int(m), p, lambda);
+        if (materials->isEmissive(int(m))) EXPECT_TRUE(sameBits(emitted, eFresh)) << direct.bindings[m].name;
+        if (&p == &points[0]) first.copyLobesFrom(fresh);
+        if (m >= kIndependent.size() && !sameLobes(first, fresh)) ++dependentDifferences;
+      }
+    }
+  }
+  // The Hit-dependent materials do vary over the points (so a stale replay would be caught).
+  EXPECT_GT(dependentDifferences, 20);
+}
+
+TEST(MaterialMemo, SystemsDoNotShareEntries) {
+  // Two systems whose slot 0 holds different materials, used alternately on one thread.
+  std::string error;
+  const SceneDescription sceneA = sceneWith({"plain"}), sceneB = sceneWith({"helper"});
+  const std::unique_ptr<MaterialSystem> a = MaterialSystem::create(sceneA, MaterialOptions{}, error);
+  const std::unique_ptr<MaterialSystem> b = MaterialSystem::create(sceneB, MaterialOptions{}, error);
+  ASSERT_TRUE(a && b) << error;
+  const Wavelengths lambda = color::sampleWavelengthGroup(0.5f, 4);
+  Bsdf fromA[2], fromB[2];
+  Spectrum e;
+  for (int k = 0; k < 2; ++k) {
+    ASSERT_TRUE(a->shade(0, pointAt(0.1f, 0.1f, 0.0f), lambda, fromA[k], e));
+    ASSERT_TRUE(b->shade(0, pointAt(0.1f, 0.1f, 0.0f), lambda, fromB[k], e));
+  }
+  EXPECT_TRUE(sameLobes(fromA[0], fromA[1]));
+  EXPECT_TRUE(sameLobes(fromB[0], fromB[1]));
+  EXPECT_FALSE(sameLobes(fromA[1], fromB[1]));
+}
+
+}  // namespace
+}  // namespace tex::render
