@@ -22,6 +22,7 @@ enum class ClosureKind : uint32_t {
   Layer = 9,             // a: coat, b: base
   Scale = 10,            // a: child, params: weight
   Add = 11,              // a + b
+  Sheen = 12,            // params: colour; scalars[0]: roughness alpha of the Charlie sheen
 };
 enum class ClosureParam : uint32_t { None = 0, Color = 1, Spectrum = 2 };
 

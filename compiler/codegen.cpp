@@ -642,7 +642,8 @@ class Codegen {
       case Prim::MatGlossyDielectric:
       case Prim::MatLayer:
       case Prim::MatScale:
-      case Prim::MatAdd: return genMaterialNode(n, a);
+      case Prim::MatAdd:
+      case Prim::MatSheen: return genMaterialNode(n, a);
       case Prim::ImageNearest:
       case Prim::ImageBilinear:
       case Prim::ImageTrilinear: return genImageLookup(n, a);

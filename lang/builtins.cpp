@@ -32,7 +32,7 @@ const std::set<std::string>& otherBuiltins() {
       "dot", "length", "distance", "normalize", "cross", "float", "int", "is_nan", "is_inf",
       "vec2", "vec3", "vec4", "rgb", "color", "luminance", "spectrum", "fold", "diffuse",
       "emission", "mix_material", "dielectric", "conductor", "thin_dielectric", "glossy", "glossy_dielectric",
-      "layer", "scale_material", "add_material", "image", "image_data", "image_size", "sample", "sample_nearest",
+      "layer", "scale_material", "add_material", "sheen", "image", "image_data", "image_size", "sample", "sample_nearest",
       "sample_alpha", "sample_filtered", "reflectance_spectrum", "unbounded_spectrum", "illuminant_spectrum"};
   return names;
 }
@@ -50,6 +50,7 @@ const std::map<std::string, std::vector<BuiltinParam>>& namedBuiltinParams() {
       {"layer", {{"coat"}, {"base"}}},
       {"scale_material", {{"m"}, {"w"}}},
       {"add_material", {{"a"}, {"b"}}},
+      {"sheen", {{"color"}, {"roughness"}}},
       {"mix_material", {{"a"}, {"b"}, {"t"}}}};
   return table;
 }
@@ -377,6 +378,12 @@ Node* Builder::builtinCall(const std::string& name, std::vector<TypedArg> args, 
     const char* expected = "(ior: Float or Spectrum, n: Float)";
     if (!arity(2)) return noOverload(expected);
     return material(Prim::MatGlossyDielectric, {spectrumArg(0), scalar(1)}, expected);
+  }
+  if (name == "sheen") {
+    // Cloth sheen (Charlie, Estevez & Kulla 2017): a colour and its roughness alpha.
+    const char* expected = "(color: Color, Spectrum or Float, roughness: Float)";
+    if (!arity(2)) return noOverload(expected);
+    return material(Prim::MatSheen, {colorOrSpectrumArg(0), scalar(1)}, expected);
   }
   if (name == "layer" || name == "add_material") {
     const char* expected = name == "layer" ? "(coat: Material, base: Material)" : "(a: Material, b: Material)";

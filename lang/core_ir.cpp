@@ -14,7 +14,7 @@ const char* primName(Prim p) {
       "inot", "imin", "imax", "iabs", "ilt", "ile", "igt", "ige", "ieq", "ine",
       "bnot", "beq", "bne", "itof", "ftoi", "splat", "concat", "swizzle", "dot", "wavelengths",
       "mat_diffuse", "mat_emission", "mat_mix", "mat_dielectric", "mat_conductor", "mat_thin_dielectric",
-      "mat_glossy", "mat_glossy_dielectric", "mat_layer", "mat_scale", "mat_add",
+      "mat_glossy", "mat_glossy_dielectric", "mat_layer", "mat_scale", "mat_add", "mat_sheen",
       "image_nearest", "image_bilinear", "image_trilinear", "image_size",
       "rgb_reflectance", "rgb_unbounded", "rgb_illuminant"};
   static_assert(sizeof(names) / sizeof(names[0]) == size_t(Prim::RgbIlluminant) + 1, "primName table out of date");
@@ -42,14 +42,15 @@ const MaterialEntry kMaterials[] = {
     {Prim::MatLayer, "layer", {9, 2, 0, 0, false}},
     {Prim::MatScale, "scale_material", {10, 1, 1, 0, false}},
     {Prim::MatAdd, "add_material", {11, 2, 0, 0, false}},
+    {Prim::MatSheen, "sheen", {12, 0, 1, 1, false}},
 };
 constexpr size_t kMaterialCount = sizeof(kMaterials) / sizeof(kMaterials[0]);
-static_assert(kMaterialCount == size_t(Prim::MatAdd) - size_t(Prim::MatDiffuse) + 1, "material table out of date");
+static_assert(kMaterialCount == size_t(Prim::MatSheen) - size_t(Prim::MatDiffuse) + 1, "material table out of date");
 
 }  // namespace
 
 const MaterialShape* materialShape(Prim p) {
-  if (p < Prim::MatDiffuse || p > Prim::MatAdd) return nullptr;
+  if (p < Prim::MatDiffuse || p > Prim::MatSheen) return nullptr;
   return &kMaterials[size_t(p) - size_t(Prim::MatDiffuse)].shape;
 }
 

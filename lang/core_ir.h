@@ -49,6 +49,7 @@ enum class Prim : uint8_t {
   MatLayer,             // (coat: Material, base: Material) -> Material
   MatScale,             // (m: Material, w: Color|Spectrum) -> Material
   MatAdd,               // (Material, Material) -> Material
+  MatSheen,             // (color: Color|Spectrum, roughness: Float) -> Material
   // image textures (lang/image_table.h): (Image, uv: Vec2, duvdx: Vec2, duvdy: Vec2, wrap: Int)
   // -> Vec4 RGBA; the nearest and bilinear lookups ignore the derivatives
   ImageNearest, ImageBilinear, ImageTrilinear,

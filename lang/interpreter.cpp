@@ -258,7 +258,8 @@ class Interpreter {
       case Prim::MatGlossyDielectric:
       case Prim::MatLayer:
       case Prim::MatScale:
-      case Prim::MatAdd: return material(n, slots);
+      case Prim::MatAdd:
+      case Prim::MatSheen: return material(n, slots);
       case Prim::ImageNearest:
       case Prim::ImageBilinear:
       case Prim::ImageTrilinear: {

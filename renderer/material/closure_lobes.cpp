@@ -3,6 +3,7 @@
 #include <array>
 #include <cmath>
 
+#include "renderer/bsdf/sheen_albedo.h"
 #include "renderer/spectra/rgb_spectrum.h"
 
 namespace tex::render {
@@ -38,6 +39,10 @@ struct Walker {
   Spectrum& emission;
   ClosureEvaluation result;
   bool underCoat = false;  // inside the base of a layer whose coat the Bsdf holds
+  // Inside the base of a layer whose coat is a sheen: its colour (per lane, in [0, 1]) and alpha.
+  bool underSheen = false;
+  Spectrum sheenColour;
+  float sheenAlpha = 0;
 
   void addLobe(Lobe lobe) {
     if (lobe.weight.isBlack()) return;
@@ -64,18 +69,51 @@ struct Walker {
     return r >= 1e-3f ? std::min(r, 1.0f) : 0.0f;
   }
 
+  // The sheen's colour as a reflectance and its alpha (sheen::clampRoughness: [0.01, 1]).
+  Spectrum sheenReflectance(const compiler::ClosureNode& node) const {
+    return clampZero(paramSpectrum(node.paramKind, node.params, lambda, ParamUse::Reflectance));
+  }
+  static float sheenRoughnessOf(const compiler::ClosureNode& node) {
+    return float(sheen::clampRoughness(node.scalars[0]));
+  }
+
+  // Under a sheen coat only Lambertian bases are scaled (sheen_lobe.h); trees of them through
+  // mix, scale and add, and emission, are fine.
+  static bool allowedUnderSheen(compiler::ClosureKind kind) {
+    return kind == compiler::ClosureKind::Diffuse || kind == compiler::ClosureKind::Emission ||
+           kind == compiler::ClosureKind::Mix || kind == compiler::ClosureKind::Scale ||
+           kind == compiler::ClosureKind::Add;
+  }
+
   void walk(int32_t index, const Spectrum& weight, int depth) {
     if (index < 0 || index >= arena.count || depth > kArenaCapacity) {
       result.ok = false;
       return;
     }
     const compiler::ClosureNode& node = arena.nodes[index];
+    if (underSheen && bsdf && !allowedUnderSheen(node.kind)) {
+      result.ok = false;  // other bases under a sheen are not supported yet
+      return;
+    }
     switch (node.kind) {
       case compiler::ClosureKind::Diffuse: {
         if (!bsdf) return;
         Lobe lobe;
-        lobe.kind = LobeKind::Lambertian;
+        lobe.kind = underSheen ? LobeKind::LambertianUnderSheen : LobeKind::Lambertian;
         lobe.weight = weight * clampZero(paramSpectrum(node.paramKind, node.params, lambda, ParamUse::Reflectance));
+        if (underSheen) {
+          lobe.a = sheenColour;
+          lobe.roughness = sheenAlpha;
+        }
+        addLobe(lobe);
+        return;
+      }
+      case compiler::ClosureKind::Sheen: {
+        if (!bsdf) return;
+        Lobe lobe;
+        lobe.kind = LobeKind::Sheen;
+        lobe.roughness = sheenRoughnessOf(node);
+        lobe.weight = weight * sheenReflectance(node);
         addLobe(lobe);
         return;
       }
@@ -146,9 +184,22 @@ struct Walker {
           walk(node.b, weight, depth + 1);  // the base may emit
           return;
         }
+        const int32_t c = node.a;
+        if (c >= 0 && c < arena.count && arena.nodes[c].kind == compiler::ClosureKind::Sheen) {
+          // A sheen over Lambertian bases: the sheen lobe, and the bases scaled by what it
+          // does not reflect (LambertianUnderSheen, sheen_lobe.h). Not nested.
+          const compiler::ClosureNode& sheenNode = arena.nodes[c];
+          walk(c, weight, depth + 1);
+          underSheen = true;
+          sheenColour = sheenReflectance(sheenNode);
+          for (int i = 0; i < kLanes; ++i) sheenColour.v[i] = std::min(sheenColour.v[i], 1.0f);
+          sheenAlpha = sheenRoughnessOf(sheenNode);
+          walk(node.b, weight, depth + 1);
+          underSheen = false;
+          return;
+        }
         // The coat must be a dielectric interface (smooth or rough); the base's lobes are
         // attenuated by its Fresnel transmission (Bsdf::setCoat, docs/layering.md).
-        const int32_t c = node.a;
         const bool dielectricCoat = c >= 0 && c < arena.count &&
                                     (arena.nodes[c].kind == compiler::ClosureKind::Dielectric ||
                                      arena.nodes[c].kind == compiler::ClosureKind::GlossyDielectric);

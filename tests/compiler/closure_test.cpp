@@ -1,7 +1,7 @@
 // Material closures built by compiled code: dielectric and conductor lobes, the
 // wavelength-dependence flag, mix weights and arena overflow, the layered/scaled/added kinds
-// with their scalars, at 4 and 8 wavelengths, against the interpreter's tree; and the
-// std.spectra / std.materials formulas.
+// and the sheen with their scalars, at 4 and 8 wavelengths, against the interpreter's tree; and
+// the std.spectra / std.materials formulas.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -506,6 +506,70 @@ TEST(StdMaterials, GoldAt550NmThroughTheJitMatchesTheTable) {
   float k = render::interpolateTable(*render::namedSpectrum("Au-k"), 550.0f);
   EXPECT_NEAR(nodes[0].params[3], eta, 0.01f * eta);
   EXPECT_NEAR(nodes[0].params2[3], k, 0.01f * k);
+}
+
+}  // namespace
+
+namespace {
+
+TEST_P(ClosureLanes, SheenCarriesItsRunTimeColourAndRoughness) {
+  // A sheen whose Color and roughness are computed from the hit, and std.materials.velvet (a
+  // layer of a sheen over a diffuse base): kinds, the Color parameter, the roughness scalar,
+  // no wavelength flag, and the interpreter's identical tree.
+  const int lanes = GetParam();
+  Session session;
+  ModuleInfo* mod = session.loadSource(
+      "sheen.tex",
+      "import std.materials.{velvet}\n"
+      "export fn m(h: Hit, w: Spectrum) -> Material =\n"
+      "  add_material(sheen(rgb(h.uv.x, 0.5, 0.25), roughness: h.uv.y), velvet(rgb(0.6, 0.1, 0.2), 0.4))\n");
+  auto& types = TypeTable::global();
+  int fn = mod ? session.instantiate(mod, "m", {types.hit(), types.spectrum()}, Span{}) : -1;
+  for (auto& d : session.diags().items()) ADD_FAILURE() << renderDiagnostic(d);
+  ASSERT_GE(fn, 0);
+  compiler::CompileOptions options;
+  options.useCache = false;
+  options.wavelengths = lanes;
+  auto module = compiler::compile(session.program(), {fn}, options, session.diags());
+  ASSERT_NE(module, nullptr);
+
+  WavelengthGroup group = groupOf(lanes);
+  std::vector<ClosureNode> nodes(8);
+  compiler::ClosureArena arena{nodes.data(), int32_t(nodes.size()), 0, 0};
+  compiler::ShadingContext ctx = contextOf(group, &arena);
+  Value hit = makeHit(0.125f, 0.375f);
+  Value w = etaValue(lanes);
+  std::vector<uint32_t> args = argWords(hit, w, lanes);
+  int32_t root = -1;
+  module->entry(fn)(args.data(), &root, &ctx);
+  ASSERT_EQ(arena.overflow, 0);
+  ASSERT_EQ(arena.count, 5);
+  ASSERT_GE(root, 0);
+  const ClosureNode& top = nodes[size_t(root)];
+  ASSERT_EQ(top.kind, ClosureKind::Add);
+  const ClosureNode& cloth = nodes[size_t(top.a)];
+  ASSERT_EQ(cloth.kind, ClosureKind::Sheen);
+  EXPECT_EQ(cloth.a, -1);
+  EXPECT_EQ(cloth.paramKind, ClosureParam::Color);
+  EXPECT_EQ(cloth.params[0], 0.125f);  // h.uv.x
+  EXPECT_EQ(cloth.params[2], 0.25f);
+  EXPECT_EQ(cloth.scalars[0], 0.375f);  // h.uv.y
+  EXPECT_EQ(cloth.flags, 0u);
+  const ClosureNode& velvet = nodes[size_t(top.b)];
+  ASSERT_EQ(velvet.kind, ClosureKind::Layer);
+  ASSERT_EQ(nodes[size_t(velvet.a)].kind, ClosureKind::Sheen);
+  EXPECT_EQ(nodes[size_t(velvet.a)].scalars[0], 0.4f);
+  EXPECT_EQ(nodes[size_t(velvet.a)].params[1], std::sqrt(0.1f));  // velvet's sheen is sqrt(color)
+  ASSERT_EQ(nodes[size_t(velvet.b)].kind, ClosureKind::Diffuse);
+  EXPECT_EQ(nodes[size_t(velvet.b)].params[0], 0.6f);
+
+  Value interp = evaluate(session.program(), fn, {hit, w}, group);
+  Value jit = compiler::unflatten(reinterpret_cast<const uint32_t*>(&root), types.material(), lanes, &arena);
+  ASSERT_TRUE(interp.material && jit.material);
+  EXPECT_EQ(formatValue(jit, types.material(), group), formatValue(interp, types.material(), group));
+  EXPECT_EQ(formatValue(interp, types.material(), group),
+            "add_material(sheen(rgb(0.125, 0.5, 0.25), 0.375), layer(sheen(rgb(0.7745967, 0.31622776, 0.4472136), "
+            "0.4), diffuse(rgb(0.6, 0.1, 0.2))))");
 }
 
 }  // namespace

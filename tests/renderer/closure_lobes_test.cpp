@@ -153,3 +153,77 @@ TEST(ClosureLobes, GlossyCoatLayersAsTheMatchingGgxCoat) {
 
 }  // namespace
 }  // namespace tex::render
+
+namespace tex::render {
+namespace {
+
+TEST(ClosureLobes, SheenMapsToItsLobeAndCoatsLambertianBases) {
+  const Compiled c = compileEntries(
+      "export fn cloth(h: Hit) -> Material = sheen(spectrum(0.7), 0.4)\n"
+      "export fn clamped(h: Hit) -> Material = sheen(spectrum(0.7), 0.0)\n"
+      "export fn velvet(h: Hit) -> Material =\n"
+      "  layer(sheen(spectrum(0.6), 0.3), mix_material(diffuse(spectrum(0.5)), diffuse(spectrum(0.3)), 0.5))\n"
+      "export fn coated(h: Hit) -> Material = layer(dielectric(1.5), layer(sheen(spectrum(0.6), 0.3), diffuse(spectrum(0.5))))\n"
+      "export fn tinted(h: Hit) -> Material = layer(sheen(rgb(0.9, 0.3, 0.1), 0.5), diffuse(spectrum(0.5)))\n",
+      {"cloth", "clamped", "velvet", "coated", "tinted"});
+  ASSERT_EQ(c.bindings.bindings.size(), 5u);
+  const auto& b = c.bindings.bindings;
+
+  Shaded s = shade(b[0]);
+  ASSERT_TRUE(s.result.ok);
+  ASSERT_EQ(s.bsdf.lobeCount(), 1);
+  EXPECT_EQ(s.bsdf.lobe(0).kind, LobeKind::Sheen);
+  EXPECT_FLOAT_EQ(s.bsdf.lobe(0).roughness, 0.4f);
+  EXPECT_FLOAT_EQ(s.bsdf.lobe(0).weight.v[2], 0.7f);
+  EXPECT_TRUE(s.bsdf.hasNonSpecular());
+
+  s = shade(b[1]);
+  ASSERT_EQ(s.bsdf.lobeCount(), 1);
+  EXPECT_FLOAT_EQ(s.bsdf.lobe(0).roughness, 0.01f);  // clamped to the model's range
+
+  // The sheen, then each diffuse base as a Lambertian under it, carrying its colour and alpha.
+  s = shade(b[2]);
+  ASSERT_TRUE(s.result.ok);
+  EXPECT_FALSE(s.bsdf.hasCoat());
+  ASSERT_EQ(s.bsdf.lobeCount(), 3);
+  EXPECT_EQ(s.bsdf.lobe(0).kind, LobeKind::Sheen);
+  EXPECT_FLOAT_EQ(s.bsdf.lobe(0).weight.v[0], 0.6f);
+  for (int i = 1; i < 3; ++i) {
+    EXPECT_EQ(s.bsdf.lobe(i).kind, LobeKind::LambertianUnderSheen);
+    EXPECT_FLOAT_EQ(s.bsdf.lobe(i).a.v[1], 0.6f);
+    EXPECT_FLOAT_EQ(s.bsdf.lobe(i).roughness, 0.3f);
+  }
+  EXPECT_FLOAT_EQ(s.bsdf.lobe(1).weight.v[0], 0.25f);
+  EXPECT_FLOAT_EQ(s.bsdf.lobe(2).weight.v[0], 0.15f);
+
+  // Under a dielectric coat, both sheen lobes are coated.
+  s = shade(b[3]);
+  ASSERT_TRUE(s.result.ok);
+  ASSERT_TRUE(s.bsdf.hasCoat());
+  ASSERT_EQ(s.bsdf.lobeCount(), 2);
+  EXPECT_TRUE(s.bsdf.lobe(0).underCoat && s.bsdf.lobe(1).underCoat);
+  EXPECT_EQ(s.bsdf.lobe(1).kind, LobeKind::LambertianUnderSheen);
+
+  // A Color sheen is upsampled as a reflectance; the base's scaling uses the same spectrum.
+  s = shade(b[4]);
+  ASSERT_EQ(s.bsdf.lobeCount(), 2);
+  for (int i = 0; i < 4; ++i) {
+    EXPECT_GT(s.bsdf.lobe(0).weight.v[i], 0.0f);
+    EXPECT_LE(s.bsdf.lobe(0).weight.v[i], 1.0f);
+    EXPECT_FLOAT_EQ(s.bsdf.lobe(1).a.v[i], s.bsdf.lobe(0).weight.v[i]);
+  }
+  EXPECT_NE(s.bsdf.lobe(0).weight.v[0], s.bsdf.lobe(0).weight.v[3]);
+}
+
+TEST(ClosureLobes, SheenOverOtherBasesFailsCleanly) {
+  // Only Lambertian bases are scaled under a sheen; nested coats are not supported either.
+  const Compiled c = compileEntries(
+      "export fn shiny(h: Hit) -> Material = layer(sheen(spectrum(0.5), 0.3), glossy(spectrum(0.5), 10.0))\n"
+      "export fn nested(h: Hit) -> Material = layer(sheen(spectrum(0.5), 0.3), layer(dielectric(1.5), diffuse(spectrum(0.5))))\n"
+      "export fn twice(h: Hit) -> Material = layer(sheen(spectrum(0.5), 0.3), add_material(sheen(spectrum(0.5), 0.3), diffuse(spectrum(0.5))))\n",
+      {"shiny", "nested", "twice"});
+  for (const auto& binding : c.bindings.bindings) EXPECT_FALSE(shade(binding).result.ok);
+}
+
+}  // namespace
+}  // namespace tex::render
