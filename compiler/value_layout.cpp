@@ -17,7 +17,8 @@ static_assert(uint32_t(lang::MaterialNode::Kind::Diffuse) == uint32_t(ClosureKin
                   uint32_t(lang::MaterialNode::Kind::GlossyDielectric) == uint32_t(ClosureKind::GlossyDielectric) &&
                   uint32_t(lang::MaterialNode::Kind::Layer) == uint32_t(ClosureKind::Layer) &&
                   uint32_t(lang::MaterialNode::Kind::Scale) == uint32_t(ClosureKind::Scale) &&
-                  uint32_t(lang::MaterialNode::Kind::Add) == uint32_t(ClosureKind::Add),
+                  uint32_t(lang::MaterialNode::Kind::Add) == uint32_t(ClosureKind::Add) &&
+                  uint32_t(lang::MaterialNode::Kind::Sheen) == uint32_t(ClosureKind::Sheen),
               "MaterialNode::Kind follows ClosureKind");
 
 using lang::Type;

@@ -30,7 +30,7 @@ struct Value {
 struct MaterialNode {
   enum class Kind : uint32_t {
     Diffuse = 1, Emission = 2, Mix = 3, Dielectric = 4, Conductor = 5, ThinDielectric = 6,
-    Glossy = 7, GlossyDielectric = 8, Layer = 9, Scale = 10, Add = 11,
+    Glossy = 7, GlossyDielectric = 8, Layer = 9, Scale = 10, Add = 11, Sheen = 12,
   } kind = Kind::Diffuse;
   const Type* paramType = nullptr;   // Color or Spectrum, for kinds with parameters
   Value param;                       // albedo, radiance, IOR, eta, reflectance or Scale's weight

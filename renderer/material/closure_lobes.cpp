@@ -41,7 +41,7 @@ struct Walker {
   bool underCoat = false;  // inside the base of a layer whose coat the Bsdf holds
   // Inside the base of a layer whose coat is a sheen: its colour (per lane, in [0, 1]) and alpha.
   bool underSheen = false;
-  Spectrum sheenColour;
+  Spectrum sheenColour{};
   float sheenAlpha = 0;
 
   void addLobe(Lobe lobe) {
