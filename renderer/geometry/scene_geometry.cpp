@@ -19,6 +19,33 @@ void embreeError(void* userPtr, RTCError code, const char* message) {
 
 Vec3 transformPoint(const Mat4& m, const Vec3& p) { return Vec3(m * Vec4(p, 1.0f)); }
 
+// What a hit takes from its triangle alone: the unit geometric normal (front side) and the
+// uv parametrisation's position derivatives. One function for the per-hit computation and the
+// per-triangle table of baked instances, so both give the same bits.
+struct TriangleFrame {
+  Vec3 ng{0.0f};
+  Vec3 dpdu{0.0f}, dpdv{0.0f};  // 0 without uv or when it is degenerate
+};
+TriangleFrame triangleFrame(const Vec3 p[3], const Vec2* uv /* 3 or null */, bool flipWinding) {
+  TriangleFrame f;
+  const Vec3 e1 = p[1] - p[0], e2 = p[2] - p[0];
+  Vec3 n = glm::cross(e1, e2);
+  const float len = glm::length(n);
+  f.ng = len > 0.0f ? n / len : Vec3(0.0f, 0.0f, 1.0f);
+  if (flipWinding) f.ng = -f.ng;
+  if (uv) {
+    // Solve [e1 e2] = [dpdu dpdv] [duv1 duv2] for the uv parametrisation's derivatives.
+    const Vec2 d1 = uv[1] - uv[0], d2 = uv[2] - uv[0];
+    const float det = d1.x * d2.y - d1.y * d2.x;
+    if (std::fabs(det) > 1e-12f) {
+      const float inv = 1.0f / det;
+      f.dpdu = (e1 * d2.y - e2 * d1.y) * inv;
+      f.dpdv = (e2 * d1.x - e1 * d2.x) * inv;
+    }
+  }
+  return f;
+}
+
 // Our ray as Embree's: over (0, tMax), every geometry mask.
 RTCRay embreeRay(const Ray& ray) {
   RTCRay r;
@@ -46,6 +73,9 @@ struct SceneGeometry::Impl {
     glm::mat3 normalToWorld{1.0f};
     bool flipWinding = false;
     std::vector<Vec3> worldPositions;  // baked instances only
+    // Baked instances: each triangle's frame, computed once (a hit would otherwise spend a
+    // square root and four divisions on it); 36 bytes a triangle.
+    std::vector<TriangleFrame> triangleFrames;
     bool valid = false;                // false: skipped (no triangles, degenerate transform)
   };
   const SceneDescription* scene = nullptr;
@@ -158,6 +188,17 @@ std::unique_ptr<SceneGeometry> SceneGeometry::build(const SceneDescription& scen
         inst.worldPositions[v] = transformPoint(desc.objectToWorld, prim.positions[v]);
         geometry->bounds_.extend(inst.worldPositions[v]);
       }
+      inst.triangleFrames.resize(prim.indices.size() / 3);
+      for (size_t t = 0; t < inst.triangleFrames.size(); ++t) {
+        Vec3 p[3];
+        Vec2 uv[3];
+        for (int k = 0; k < 3; ++k) {
+          const uint32_t v = prim.indices[t * 3 + size_t(k)];
+          p[k] = inst.worldPositions[v];
+          if (!prim.uv0.empty()) uv[k] = prim.uv0[v];
+        }
+        inst.triangleFrames[t] = triangleFrame(p, prim.uv0.empty() ? nullptr : uv, inst.flipWinding);
+      }
       RTCGeometry g = im.makeTriangles(inst.worldPositions, prim.indices);
       if (!g) break;
       im.attachAlphaTest(g, desc.primitive);
@@ -260,11 +301,13 @@ void SceneGeometry::fillHit(int instance, uint32_t triangle, float b1, float b2,
   hit.triangle = triangle;
   hit.material = prim.material;
   hit.p = p[0] * b0 + p[1] * b1 + p[2] * b2;
-  const Vec3 e1 = p[1] - p[0], e2 = p[2] - p[0];
-  Vec3 n = glm::cross(e1, e2);
-  const float len = glm::length(n);
-  hit.ng = len > 0.0f ? n / len : Vec3(0.0f, 0.0f, 1.0f);
-  if (inst.flipWinding) hit.ng = -hit.ng;
+  Vec2 uv[3];
+  if (!prim.uv0.empty())
+    for (int k = 0; k < 3; ++k) uv[k] = prim.uv0[vi[k]];
+  const TriangleFrame frame = inst.triangleFrames.empty()
+                                  ? triangleFrame(p, prim.uv0.empty() ? nullptr : uv, inst.flipWinding)
+                                  : inst.triangleFrames[triangle];
+  hit.ng = frame.ng;
   hit.ns = hit.ng;
   if (!prim.normals.empty()) {
     const Vec3 nObject = prim.normals[vi[0]] * b0 + prim.normals[vi[1]] * b1 + prim.normals[vi[2]] * b2;
@@ -279,20 +322,9 @@ void SceneGeometry::fillHit(int instance, uint32_t triangle, float b1, float b2,
     const float tl = glm::length(tw);
     if (tl > 0.0f && std::isfinite(tl)) hit.tangent = Vec4(tw / tl, prim.tangents[vi[0]].w < 0.0f ? -1.0f : 1.0f);
   }
-  hit.uv = Vec2(0.0f);
-  hit.dpdu = hit.dpdv = Vec3(0.0f);
-  if (!prim.uv0.empty()) {
-    const Vec2 t0 = prim.uv0[vi[0]], t1 = prim.uv0[vi[1]], t2 = prim.uv0[vi[2]];
-    hit.uv = t0 * b0 + t1 * b1 + t2 * b2;
-    // Solve [e1 e2] = [dpdu dpdv] [duv1 duv2] for the uv parametrisation's derivatives.
-    const Vec2 d1 = t1 - t0, d2 = t2 - t0;
-    const float det = d1.x * d2.y - d1.y * d2.x;
-    if (std::fabs(det) > 1e-12f) {
-      const float inv = 1.0f / det;
-      hit.dpdu = (e1 * d2.y - e2 * d1.y) * inv;
-      hit.dpdv = (e2 * d1.x - e1 * d2.x) * inv;
-    }
-  }
+  hit.uv = prim.uv0.empty() ? Vec2(0.0f) : uv[0] * b0 + uv[1] * b1 + uv[2] * b2;
+  hit.dpdu = frame.dpdu;
+  hit.dpdv = frame.dpdv;
 }
 
 }  // namespace tex::render

@@ -1,0 +1,82 @@
+// Hit geometry (renderer/geometry/scene_geometry.cpp): the geometric normal and the uv
+// derivatives of a hit are its triangle's, bit for bit, whether they come from the per-triangle
+// table of a baked primitive or are computed at the hit (instanced primitives), with mirrored
+// transforms flipping the normal.
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+#include "renderer/geometry/scene_geometry.h"
+#include "renderer/sampling/pcg.h"
+
+namespace tex::render {
+namespace {
+
+// A soup of random triangles with random uv in a 2-unit cube around the origin.
+MeshPrimitive randomSoup(uint64_t seed, int triangles) {
+  MeshPrimitive m;
+  for (int t = 0; t < triangles; ++t) {
+    for (int k = 0; k < 3; ++k) {
+      const uint64_t i = uint64_t(t * 3 + k);
+      m.positions.push_back(Vec3(2.0f * sampling::randomUniform(seed, i, 0) - 1.0f, 2.0f * sampling::randomUniform(seed, i, 1) - 1.0f,
+                                 2.0f * sampling::randomUniform(seed, i, 2) - 1.0f));
+      m.uv0.push_back(Vec2(sampling::randomUniform(seed, i, 3), sampling::randomUniform(seed, i, 4)));
+      m.indices.push_back(uint32_t(i));
+    }
+  }
+  return m;
+}
+
+bool sameBits(const Vec3& a, const Vec3& b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+TEST(SceneGeometry, HitNormalAndUvDerivativesAreTheTrianglesBitForBit) {
+  SceneDescription scene;
+  scene.primitives.push_back(randomSoup(1, 40));  // used once: baked, per-triangle table
+  scene.primitives.push_back(randomSoup(2, 40));  // used twice: instanced, computed per hit
+  Mat4 mirrored(1.0f);
+  mirrored[0][0] = -1.0f;  // a mirroring transform flips the winding
+  mirrored[3] = Vec4(0.0f, 0.0f, -4.0f, 1.0f);
+  Mat4 shifted(1.0f);
+  shifted[3] = Vec4(0.0f, 0.0f, 4.0f, 1.0f);
+  Mat4 farAway(1.0f);
+  farAway[3] = Vec4(100.0f, 0.0f, 0.0f, 1.0f);
+  scene.instances.push_back(MeshInstance{0, mirrored, "baked"});
+  scene.instances.push_back(MeshInstance{1, shifted, "instanced"});
+  scene.instances.push_back(MeshInstance{1, farAway, "instanced elsewhere"});
+  std::string error;
+  const auto geometry = SceneGeometry::build(scene, error);
+  ASSERT_TRUE(geometry) << error;
+
+  int hits[2] = {0, 0};
+  for (uint64_t i = 0; i < 4000; ++i) {
+    // Rays along x through both clusters' slabs (z in [-5, -3] and [3, 5]).
+    Ray ray;
+    const float z = (i % 2 ? 4.0f : -4.0f) + 2.0f * sampling::randomUniform(9, i, 0) - 1.0f;
+    ray.origin = Vec3(-10.0f, 2.0f * sampling::randomUniform(9, i, 1) - 1.0f, z);
+    ray.direction = Vec3(1.0f, 0.0f, 0.0f);
+    ray.tMax = 15.0f;  // short of the far instance
+    SurfaceHit hit;
+    if (!geometry->intersect(ray, hit)) continue;
+    ASSERT_TRUE(hit.instance == 0 || hit.instance == 1);
+    ++hits[hit.instance];
+    Vec3 p[3];
+    Vec2 uv[3];
+    Vec3 ng;
+    geometry->triangleWorld(hit.instance, hit.triangle, p, uv, ng);
+    EXPECT_TRUE(sameBits(hit.ng, ng)) << "instance " << hit.instance << " triangle " << hit.triangle;
+    const Vec3 e1 = p[1] - p[0], e2 = p[2] - p[0];
+    const Vec2 d1 = uv[1] - uv[0], d2 = uv[2] - uv[0];
+    const float det = d1.x * d2.y - d1.y * d2.x;
+    ASSERT_GT(std::fabs(det), 1e-12f);
+    const float inv = 1.0f / det;
+    EXPECT_TRUE(sameBits(hit.dpdu, (e1 * d2.y - e2 * d1.y) * inv));
+    EXPECT_TRUE(sameBits(hit.dpdv, (e2 * d1.x - e1 * d2.x) * inv));
+    // The normal faces the mirrored (baked) cluster's flipped side: n . (e1 x e2) < 0 there.
+    EXPECT_EQ(dot3(hit.ng, glm::cross(e1, e2)) < 0.0f, hit.instance == 0);
+  }
+  EXPECT_GT(hits[0], 300);
+  EXPECT_GT(hits[1], 300);
+}
+
+}  // namespace
+}  // namespace tex::render
