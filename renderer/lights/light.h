@@ -117,6 +117,7 @@ class LightSampler {
   int size() const { return int(pmf_.size()); }
 
  private:
+  static constexpr size_t kLinearSearchMax = 16;  // up to this many lights, sample() counts
   std::vector<float> pmf_, cdf_;
 };
 

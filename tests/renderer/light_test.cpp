@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -581,6 +582,38 @@ TEST(Light, SamplerPicksInProportionToPower) {
   const Light* darkOnly[] = {&dark, &dark};
   EXPECT_FALSE(LightSampler(darkOnly).sample(0.5f));
   EXPECT_FALSE(LightSampler(std::span<const Light* const>()).sample(0.5f));
+}
+
+TEST(Light, SamplerCountingAndBinarySearchPickTheSameLight) {
+  // Up to 16 lights the sampler counts CDF entries instead of bisecting; with a 17th, dark
+  // light appended (same CDF, binary search) every u must pick the same light, at the CDF's
+  // own values (ties), at the ends and for NaN.
+  std::vector<FixedPowerLight> lights;
+  for (int i = 0; i < 16; ++i) lights.emplace_back(i % 5 == 3 ? 0.0f : float(1 + (i * 7) % 11));
+  lights.emplace_back(0.0f);
+  std::vector<const Light*> pointers;
+  for (const FixedPowerLight& l : lights) pointers.push_back(&l);
+  const LightSampler counting(std::span<const Light* const>(pointers.data(), 16));
+  const LightSampler bisecting(pointers);
+  std::vector<float> us = {0.0f, 0x1.fffffep-1f, 1.0f, -0.5f, 2.0f, std::numeric_limits<float>::quiet_NaN()};
+  float running = 0.0f;
+  for (int i = 0; i < 16; ++i) {
+    running += counting.pmf(i);
+    us.push_back(running);
+    us.push_back(std::nextafter(running, 0.0f));
+  }
+  sampling::Pcg32 rng(3, 9);
+  for (int i = 0; i < 20000; ++i) us.push_back(rng.nextFloat());
+  int checked = 0;
+  for (float u : us) {
+    const auto a = counting.sample(u), b = bisecting.sample(u);
+    ASSERT_EQ(a.has_value(), b.has_value()) << u;
+    if (!a) continue;
+    ASSERT_EQ(a->first, b->first) << "u " << u;
+    ASSERT_EQ(a->second, b->second);
+    ++checked;
+  }
+  EXPECT_EQ(checked, int(us.size()));
 }
 
 TEST(Light, FactoryBuildsEachKindFromItsDescription) {
