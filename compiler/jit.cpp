@@ -281,24 +281,31 @@ std::unique_ptr<CompiledModule> compile(const lang::ir::Program& program, const 
     module->setDataLayout(tm->createDataLayout());
     module->setTargetTriple(tm->getTargetTriple().str());
     stats.codegenMs = lap();
-    optimise(*module, tm, options.opt);
-    if (options.opt != OptLevel::Quick) {
-      lowerFloatSelectsToIntegerSelects(*module);
-      insertIntegerMultiplyBarriers(*module);
-    }
-    stats.optimiseMs = lap();
-    if (const char* dump = getenv("TEX_DUMP_IR"); dump && *dump) {
-      std::error_code ec;
-      llvm::raw_fd_ostream out(dump, ec);
-      if (!ec) module->print(out, nullptr);
-    }
     OptLevel opt = options.opt;
-    auto emit = [opt](llvm::Module& part, std::string& object, std::string& partError) {
+    auto optimiseFn = [opt](llvm::Module& part) {
+      std::string partError;
       llvm::TargetMachine* partTm = targetMachine(opt, partError);  // the calling thread's
+      if (!partTm) return;  // emitFn reports the same error
+      optimise(part, partTm, opt);
+      if (opt != OptLevel::Quick) {
+        lowerFloatSelectsToIntegerSelects(part);
+        insertIntegerMultiplyBarriers(part);
+      }
+      if (const char* dump = getenv("TEX_DUMP_IR"); dump && *dump) {  // debugging: each part appended
+        std::error_code ec;
+        llvm::raw_fd_ostream out(dump, ec, llvm::sys::fs::OF_Append);
+        if (!ec) part.print(out, nullptr);
+      }
+    };
+    auto emitFn = [opt](llvm::Module& part, std::string& object, std::string& partError) {
+      llvm::TargetMachine* partTm = targetMachine(opt, partError);
       return partTm && emitObject(part, partTm, object, partError);
     };
-    if (!emitInParts(*module, emit, objects, error)) return fail("E0501", "LLVM code generation: " + error);
-    stats.emitMs = lap();
+    PartTimes times;
+    if (!optimiseAndEmitInParts(*module, optimiseFn, emitFn, objects, times, error))
+      return fail("E0501", "LLVM code generation: " + error);
+    stats.optimiseMs = times.optimiseMs;
+    stats.emitMs = times.emitMs;
     if (options.useCache) storeCachedObjects(directory, key, objects);
   }
   for (const std::string& object : objects) stats.objectBytes += object.size();
