@@ -40,7 +40,7 @@ bool Bsdf::add(const Lobe& lobe) {
   const bool nonSpecular = !lobeIsSpecular(lobe.kind);
   hasNonSpecular_ = hasNonSpecular_ || (nonSpecular && selection_[count_] > 0.0f);
   hasDispersiveDensity_ = hasDispersiveDensity_ || (nonSpecular && lobe.etaVaries);
-  lobes_[count_++] = lobe;
+  storage_.lobes[count_++] = lobe;
   return true;
 }
 
@@ -56,7 +56,7 @@ bool Bsdf::setCoat(const Lobe& coat) {
 void Bsdf::copyLobesFrom(const Bsdf& other) {
   count_ = other.count_;
   for (int i = 0; i < count_; ++i) {
-    lobes_[i] = other.lobes_[i];
+    storage_.lobes[i] = other.storage_.lobes[i];
     selection_[i] = other.selection_[i];
   }
   hasCoat_ = other.hasCoat_;
@@ -80,7 +80,7 @@ float Bsdf::componentWeights(const Vec3& wo, float* weights) const {
   float total = 0.0f;
   for (int i = 0; i < count_; ++i) {
     weights[i] = selection_[i];
-    if (hasCoat_ && lobes_[i].underCoat) weights[i] *= 1.0f - coatShare;
+    if (hasCoat_ && storage_.lobes[i].underCoat) weights[i] *= 1.0f - coatShare;
     total += weights[i];
   }
   weights[count_] = hasCoat_ ? coatSelection_ * coatShare : 0.0f;
@@ -90,11 +90,11 @@ float Bsdf::componentWeights(const Vec3& wo, float* weights) const {
 Spectrum Bsdf::localEval(const Vec3& wo, const Vec3& wi, TransportMode mode) const {
   Spectrum f, coated;
   for (int i = 0; i < count_; ++i) {
-    if (lobeIsSpecular(lobes_[i].kind)) continue;
-    if (hasCoat_ && lobes_[i].underCoat) {
-      coated += lobeEval(lobes_[i], wo, wi, mode);
+    if (lobeIsSpecular(storage_.lobes[i].kind)) continue;
+    if (hasCoat_ && storage_.lobes[i].underCoat) {
+      coated += lobeEval(storage_.lobes[i], wo, wi, mode);
     } else {
-      f += lobeEval(lobes_[i], wo, wi, mode);
+      f += lobeEval(storage_.lobes[i], wo, wi, mode);
     }
   }
   if (hasCoat_) {
@@ -114,8 +114,8 @@ float Bsdf::localPdf(const Vec3& wo, const Vec3& wi, TransportMode mode, int lan
   if (!(total > 0.0f)) return 0.0f;
   float pdfW = 0.0f;
   for (int i = 0; i < count_; ++i)
-    if (weights[i] > 0.0f && !lobeIsSpecular(lobes_[i].kind))
-      pdfW += weights[i] * (lane == 0 ? lobePdf(lobes_[i], wo, wi, mode) : lobePdfForLane(lobes_[i], wo, wi, mode, lane));
+    if (weights[i] > 0.0f && !lobeIsSpecular(storage_.lobes[i].kind))
+      pdfW += weights[i] * (lane == 0 ? lobePdf(storage_.lobes[i], wo, wi, mode) : lobePdfForLane(storage_.lobes[i], wo, wi, mode, lane));
   if (weights[count_] > 0.0f) pdfW += weights[count_] * coatPdf(coat_, wo, wi);
   return pdfW / total;
 }
@@ -171,7 +171,7 @@ std::optional<BsdfSample> Bsdf::sample(const Vec3& woWorld, float uc, Vec2 u2, T
 
   const bool coatChosen = chosen == count_;
   std::optional<BsdfSample> s =
-      coatChosen ? coatSample(coat_, wo, u2) : lobeSample(lobes_[chosen], wo, ucLobe, u2, mode);
+      coatChosen ? coatSample(coat_, wo, u2) : lobeSample(storage_.lobes[chosen], wo, ucLobe, u2, mode);
   if (!s) return std::nullopt;
   const Vec3 wi = s->wi;
   const Vec3 wiWorld = frame_.toWorld(wi);
@@ -180,7 +180,7 @@ std::optional<BsdfSample> Bsdf::sample(const Vec3& woWorld, float uc, Vec2 u2, T
 
   if (s->specular) {
     s->pdfW *= selectionPdf;  // the Dirac lobe's own f; the others have no mass on its direction
-    if (!coatChosen && hasCoat_ && lobes_[chosen].underCoat) s->f *= coatTransmittance(coat_, wo, wi);
+    if (!coatChosen && hasCoat_ && storage_.lobes[chosen].underCoat) s->f *= coatTransmittance(coat_, wo, wi);
   } else {
     // The direction could have come from any non-specular component: the mixture's f and pdf.
     s->f = localEval(wo, wi, mode);

@@ -122,7 +122,7 @@ class Bsdf {
   void copyLobesFrom(const Bsdf& other);
   const Lobe& coat() const { return coat_; }
   int lobeCount() const { return count_; }
-  const Lobe& lobe(int i) const { return lobes_[i]; }
+  const Lobe& lobe(int i) const { return storage_.lobes[i]; }
   bool empty() const { return count_ == 0; }
   bool hasNonSpecular() const { return hasNonSpecular_; }
   // A non-specular lobe whose density differs between the group's lanes (rough or glossy
@@ -160,7 +160,12 @@ class Bsdf {
   float localPdf(const Vec3& wo, const Vec3& wi, TransportMode mode, int lane) const;
   Frame frame_;
   Vec3 ng_{0, 0, 1};
-  Lobe lobes_[kMaxLobes];
+  // The lobes, [0, count_) in use. The storage is not initialised: a Bsdf is built at every
+  // hit, and zeroing all kMaxLobes lobes (1.3 KB of its 1.6) showed in the path tracer profile.
+  union LobeStorage {
+    LobeStorage() {}
+    Lobe lobes[kMaxLobes];
+  } storage_;
   int count_ = 0;
   Lobe coat_;
   bool hasCoat_ = false;

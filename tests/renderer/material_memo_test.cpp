@@ -110,7 +110,9 @@ TEST(MaterialMemo, ReplaysEqualFreshEvaluationsPerWavelengthGroup) {
         EXPECT_TRUE(sameLobes(viaSystem, fresh)) << direct.bindings[m].name << " round " << round;
         EXPECT_TRUE(sameBits(eSystem, eFresh)) << direct.bindings[m].name << " round " << round;
         const Spectrum emitted = materials->emission(int(m), p, lambda);
-        if (materials->isEmissive(int(m))) EXPECT_TRUE(sameBits(emitted, eFresh)) << direct.bindings[m].name;
+        if (materials->isEmissive(int(m))) {
+          EXPECT_TRUE(sameBits(emitted, eFresh)) << direct.bindings[m].name;
+        }
         if (&p == &points[0]) first.copyLobesFrom(fresh);
         if (m >= kIndependent.size() && !sameLobes(first, fresh)) ++dependentDifferences;
       }
