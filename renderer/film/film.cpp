@@ -123,9 +123,20 @@ inline void FilmAccumulator::splatScalar(int px, int py, float a, float value) {
 struct PixelSpan {
   int x0, x1, y0, y1;
 };
-static PixelSpan footprintPixels(float radius, int width, int height, float x, float y) {
-  return {std::max(0, int(std::ceil(x - 0.5f - radius))), std::min(width - 1, int(std::floor(x - 0.5f + radius))),
-          std::max(0, int(std::ceil(y - 0.5f - radius))), std::min(height - 1, int(std::floor(y - 0.5f + radius)))};
+// int(std::ceil(v)) and int(std::floor(v)) for finite v in int's range, from the truncation
+// (SSE2 has no rounding instruction; these are three instructions each).
+static inline int ceilToInt(float v) {
+  const int i = int(v);
+  return i + int(float(i) < v);
+}
+static inline int floorToInt(float v) {
+  const int i = int(v);
+  return i - int(float(i) > v);
+}
+// Callers pass positions on the film (finite x, y).
+static inline PixelSpan footprintPixels(float radius, int width, int height, float x, float y) {
+  return {std::max(0, ceilToInt(x - 0.5f - radius)), std::min(width - 1, floorToInt(x - 0.5f + radius)),
+          std::max(0, ceilToInt(y - 0.5f - radius)), std::min(height - 1, floorToInt(y - 0.5f + radius))};
 }
 
 // Calls visit(px, py, weight) for every pixel whose filter footprint covers film position

@@ -57,15 +57,6 @@ float Filter::raw(float dx) const {
   return 0.0f;
 }
 
-float Filter::evaluate1d(float dx) const {
-  if (table_.empty()) return raw(dx) * normalisation_;
-  const float t = std::fabs(dx) * (float(kTableSize) / radius_);
-  if (!(t < float(kTableSize))) return 0.0f;
-  const int i = int(t);
-  const float f = t - float(i);
-  return table_[size_t(i)] + f * (table_[size_t(i) + 1] - table_[size_t(i)]);
-}
-
 const char* filterName(FilterKind kind) {
   switch (kind) {
     case FilterKind::Box: return "box";

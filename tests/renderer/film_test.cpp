@@ -257,6 +257,40 @@ TEST(Film, BatchedAddEqualsSingleAddsForEveryFilter) {
   }
 }
 
+TEST(Film, FilteredSplatEqualsABruteForceSplatOverEveryPixel) {
+  // Each record adds a = k(dx) (k(dy) w) to every pixel whose filter weight is not zero: the
+  // film's footprint (from the record's position and the filter radius) must find them all,
+  // at pixel corners, centres and edges of the film too.
+  auto reference = [](double x) { return int64_t(std::llrint(x * 16777216.0)); };
+  const int w = 9, h = 7;
+  std::vector<std::pair<float, float>> positions = {{0.0f, 0.0f}, {0.5f, 0.5f}, {1.0f / 9.0f, 3.0f / 7.0f},
+                                                    {4.5f / 9.0f, 2.0f / 7.0f}, {8.999f / 9.0f, 6.999f / 7.0f}};
+  for (int i = 0; i < 200; ++i)
+    positions.push_back({sampling::randomUniform(21, uint64_t(i), 0), sampling::randomUniform(21, uint64_t(i), 1)});
+  for (FilterKind kind : {FilterKind::Tent, FilterKind::Gaussian, FilterKind::Mitchell}) {
+    const Filter filter(kind);
+    FilmAccumulator film(settingsFor(w, h, kind, ValueKind::Scalar));
+    std::vector<int64_t> expected(size_t(w * h * 4), 0);
+    for (size_t i = 0; i < positions.size(); ++i) {
+      SampleRecord r;
+      r.filmX = positions[i].first, r.filmY = positions[i].second, r.weight = 0.75f, r.wavelengthCount = 1;
+      r.values[0] = 0.25f + 0.01f * float(i);
+      film.add(r);
+      const float x = r.filmX * float(w), y = r.filmY * float(h);
+      for (int py = 0; py < h; ++py) {
+        for (int px = 0; px < w; ++px) {
+          const float a = filter.evaluate1d(x - (float(px) + 0.5f)) * (filter.evaluate1d(y - (float(py) + 0.5f)) * r.weight);
+          if (a == 0.0f) continue;
+          const double ac = double(a) * r.values[0];
+          int64_t* e = &expected[size_t(py * w + px) * 4];
+          e[0] += reference(a), e[1] += reference(double(a) * a), e[2] += reference(ac), e[3] += reference(ac * r.values[0]);
+        }
+      }
+    }
+    EXPECT_EQ(std::vector<int64_t>(film.sums().begin(), film.sums().end()), expected) << filterName(kind);
+  }
+}
+
 TEST(Film, VarianceEstimateMatchesKnownNoise) {
   // Uniform noise in [0,1) has variance 1/12; with n samples per pixel (box filter, Sobol
   // positions give exactly n per pixel) the pixel estimate's variance is 1/(12 n).
