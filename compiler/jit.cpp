@@ -292,6 +292,8 @@ std::unique_ptr<CompiledModule> compile(const lang::ir::Program& program, const 
         insertIntegerMultiplyBarriers(part);
       }
       if (const char* dump = getenv("TEX_DUMP_IR"); dump && *dump) {  // debugging: each part appended
+        static std::mutex dumpMutex;  // the two halves of a split compile dump one after the other
+        std::lock_guard<std::mutex> lock(dumpMutex);
         std::error_code ec;
         llvm::raw_fd_ostream out(dump, ec, llvm::sys::fs::OF_Append);
         if (!ec) part.print(out, nullptr);
