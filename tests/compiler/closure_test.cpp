@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
+#include <string>
 #include <vector>
 
 #include "compiler/jit.h"
@@ -71,6 +73,49 @@ std::vector<uint32_t> argWords(const Value& hit, const Value& eta, int lanes) {
 }
 
 class ClosureLanes : public ::testing::TestWithParam<int> {};
+
+// `m(h: Hit, w: Spectrum) -> Material` of a source, compiled for `lanes` wavelengths and run at
+// one hit into an arena of `capacity` nodes, with the interpreter's tree for the same inputs.
+struct BuiltTree {
+  Session session;
+  int fn = -1;
+  std::unique_ptr<compiler::CompiledModule> module;
+  WavelengthGroup group;
+  Value hit, w;
+  std::vector<ClosureNode> nodes;
+  compiler::ClosureArena arena{};
+  int32_t root = -1;
+  Value interp;                    // the interpreter's tree
+  std::string jitText, interpText;  // both trees as formatValue prints them
+};
+
+void buildTree(BuiltTree& t, const char* file, const std::string& source, int lanes, size_t capacity) {
+  auto& types = TypeTable::global();
+  ModuleInfo* mod = t.session.loadSource(file, source);
+  t.fn = mod ? t.session.instantiate(mod, "m", {types.hit(), types.spectrum()}, Span{}) : -1;
+  for (auto& d : t.session.diags().items()) ADD_FAILURE() << renderDiagnostic(d);
+  ASSERT_GE(t.fn, 0);
+  compiler::CompileOptions options;
+  options.useCache = false;
+  options.wavelengths = lanes;
+  t.module = compiler::compile(t.session.program(), {t.fn}, options, t.session.diags());
+  ASSERT_NE(t.module, nullptr);
+  t.group = groupOf(lanes);
+  t.nodes.resize(capacity);
+  t.arena = compiler::ClosureArena{t.nodes.data(), int32_t(capacity), 0, 0};
+  compiler::ShadingContext ctx = contextOf(t.group, &t.arena);
+  t.hit = makeHit(0.125f, 0.375f);
+  t.w = etaValue(lanes);
+  std::vector<uint32_t> args = argWords(t.hit, t.w, lanes);
+  t.module->entry(t.fn)(args.data(), &t.root, &ctx);
+  ASSERT_EQ(t.arena.overflow, 0);
+  ASSERT_GE(t.root, 0);
+  t.interp = evaluate(t.session.program(), t.fn, {t.hit, t.w}, t.group);
+  Value jit = compiler::unflatten(reinterpret_cast<const uint32_t*>(&t.root), types.material(), lanes, &t.arena);
+  ASSERT_TRUE(t.interp.material && jit.material);
+  t.jitText = formatValue(jit, types.material(), t.group);
+  t.interpText = formatValue(t.interp, types.material(), t.group);
+}
 
 TEST_P(ClosureLanes, JitBuildsTheTreeTheInterpreterBuilds) {
   const int lanes = GetParam();
@@ -182,37 +227,20 @@ const char* kAlgebraSource =
 
 TEST_P(ClosureLanes, AlgebraNodesCarryChildrenScalarsAndFlags) {
   const int lanes = GetParam();
-  Session session;
-  ModuleInfo* mod = session.loadSource("algebra.tex", kAlgebraSource);
-  auto& types = TypeTable::global();
-  int fn = mod ? session.instantiate(mod, "m", {types.hit(), types.spectrum()}, Span{}) : -1;
-  for (auto& d : session.diags().items()) ADD_FAILURE() << renderDiagnostic(d);
-  ASSERT_GE(fn, 0);
-  compiler::CompileOptions options;
-  options.useCache = false;
-  options.wavelengths = lanes;
-  auto module = compiler::compile(session.program(), {fn}, options, session.diags());
-  ASSERT_NE(module, nullptr);
-
-  WavelengthGroup group = groupOf(lanes);
-  std::vector<ClosureNode> nodes(16);
-  compiler::ClosureArena arena{nodes.data(), int32_t(nodes.size()), 0, 0};
-  compiler::ShadingContext ctx = contextOf(group, &arena);
-  Value hit = makeHit(0.125f, 0.375f);
-  Value w = etaValue(lanes);
-  std::vector<uint32_t> args = argWords(hit, w, lanes);
-  int32_t root = -1;
-  module->entry(fn)(args.data(), &root, &ctx);
-  ASSERT_EQ(arena.overflow, 0);
-  ASSERT_EQ(arena.count, 10);
-  ASSERT_GE(root, 0);
+  BuiltTree t;
+  ASSERT_NO_FATAL_FAILURE(buildTree(t, "algebra.tex", kAlgebraSource, lanes, 16));
+  ASSERT_EQ(t.arena.count, 10);
+  const std::vector<ClosureNode>& nodes = t.nodes;
+  const compiler::ClosureArena& arena = t.arena;
+  const WavelengthGroup& group = t.group;
+  const Value& w = t.w;
   auto node = [&](int32_t i) -> const ClosureNode& {
     EXPECT_TRUE(i >= 0 && i < arena.count) << i;
     return nodes[size_t(std::clamp(i, 0, arena.count - 1))];
   };
   auto isLeaf = [](const ClosureNode& n) { return n.a == -1 && n.b == -1; };
 
-  const ClosureNode& top = node(root);
+  const ClosureNode& top = node(t.root);
   ASSERT_EQ(top.kind, ClosureKind::Add);
   EXPECT_EQ(top.paramKind, ClosureParam::None);
   EXPECT_EQ(top.flags, 0u);
@@ -267,10 +295,8 @@ TEST_P(ClosureLanes, AlgebraNodesCarryChildrenScalarsAndFlags) {
   EXPECT_EQ(glossy.flags, 0u);
 
   // The interpreter builds the same tree, scalars and flags included.
-  Value interp = evaluate(session.program(), fn, {hit, w}, group);
-  Value jit = compiler::unflatten(reinterpret_cast<const uint32_t*>(&root), types.material(), lanes, &arena);
-  ASSERT_TRUE(interp.material && jit.material);
-  EXPECT_EQ(formatValue(jit, types.material(), group), formatValue(interp, types.material(), group));
+  EXPECT_EQ(t.jitText, t.interpText);
+  const Value& interp = t.interp;
   EXPECT_EQ(interp.material->a->b->a->scalars[0], 0.375f);
   EXPECT_EQ(interp.material->b->flags, kMaterialVariesWithWavelength);
   EXPECT_EQ(interp.material->a->a->flags, kMaterialVariesWithWavelength);
@@ -517,34 +543,16 @@ TEST_P(ClosureLanes, SheenCarriesItsRunTimeColourAndRoughness) {
   // layer of a sheen over a diffuse base): kinds, the Color parameter, the roughness scalar,
   // no wavelength flag, and the interpreter's identical tree.
   const int lanes = GetParam();
-  Session session;
-  ModuleInfo* mod = session.loadSource(
-      "sheen.tex",
+  BuiltTree t;
+  ASSERT_NO_FATAL_FAILURE(buildTree(
+      t, "sheen.tex",
       "import std.materials.{velvet}\n"
       "export fn m(h: Hit, w: Spectrum) -> Material =\n"
-      "  add_material(sheen(rgb(h.uv.x, 0.5, 0.25), roughness: h.uv.y), velvet(rgb(0.6, 0.1, 0.2), 0.4))\n");
-  auto& types = TypeTable::global();
-  int fn = mod ? session.instantiate(mod, "m", {types.hit(), types.spectrum()}, Span{}) : -1;
-  for (auto& d : session.diags().items()) ADD_FAILURE() << renderDiagnostic(d);
-  ASSERT_GE(fn, 0);
-  compiler::CompileOptions options;
-  options.useCache = false;
-  options.wavelengths = lanes;
-  auto module = compiler::compile(session.program(), {fn}, options, session.diags());
-  ASSERT_NE(module, nullptr);
-
-  WavelengthGroup group = groupOf(lanes);
-  std::vector<ClosureNode> nodes(8);
-  compiler::ClosureArena arena{nodes.data(), int32_t(nodes.size()), 0, 0};
-  compiler::ShadingContext ctx = contextOf(group, &arena);
-  Value hit = makeHit(0.125f, 0.375f);
-  Value w = etaValue(lanes);
-  std::vector<uint32_t> args = argWords(hit, w, lanes);
-  int32_t root = -1;
-  module->entry(fn)(args.data(), &root, &ctx);
-  ASSERT_EQ(arena.overflow, 0);
-  ASSERT_EQ(arena.count, 5);
-  ASSERT_GE(root, 0);
+      "  add_material(sheen(rgb(h.uv.x, 0.5, 0.25), roughness: h.uv.y), velvet(rgb(0.6, 0.1, 0.2), 0.4))\n",
+      lanes, 8));
+  ASSERT_EQ(t.arena.count, 5);
+  const std::vector<ClosureNode>& nodes = t.nodes;
+  const int32_t root = t.root;
   const ClosureNode& top = nodes[size_t(root)];
   ASSERT_EQ(top.kind, ClosureKind::Add);
   const ClosureNode& cloth = nodes[size_t(top.a)];
@@ -563,11 +571,8 @@ TEST_P(ClosureLanes, SheenCarriesItsRunTimeColourAndRoughness) {
   ASSERT_EQ(nodes[size_t(velvet.b)].kind, ClosureKind::Diffuse);
   EXPECT_EQ(nodes[size_t(velvet.b)].params[0], 0.6f);
 
-  Value interp = evaluate(session.program(), fn, {hit, w}, group);
-  Value jit = compiler::unflatten(reinterpret_cast<const uint32_t*>(&root), types.material(), lanes, &arena);
-  ASSERT_TRUE(interp.material && jit.material);
-  EXPECT_EQ(formatValue(jit, types.material(), group), formatValue(interp, types.material(), group));
-  EXPECT_EQ(formatValue(interp, types.material(), group),
+  EXPECT_EQ(t.jitText, t.interpText);
+  EXPECT_EQ(t.interpText,
             "add_material(sheen(rgb(0.125, 0.5, 0.25), 0.375), layer(sheen(rgb(0.7745967, 0.31622776, 0.4472136), "
             "0.4), diffuse(rgb(0.6, 0.1, 0.2))))");
 }
