@@ -19,13 +19,7 @@ struct Compiled {
 Compiled compileEntries(const std::string& source, const std::vector<std::string>& entries) {
   const std::string file = test::writeTexModule("mats", source);
   SceneDescription scene;
-  for (const std::string& e : entries) {
-    TexMaterialBinding b;
-    b.file = file;
-    b.entry = e;
-    b.matchMaterial = e;
-    scene.texMaterials.push_back(b);
-  }
+  test::bindEntriesByMaterialName(scene, file, entries);
   Compiled c;
   EXPECT_TRUE(compileBindings(scene, 4, false, false, c.bindings, c.error)) << c.error;
   return c;

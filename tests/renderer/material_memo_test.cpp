@@ -43,12 +43,8 @@ SceneDescription sceneWith(const std::vector<std::string>& entries) {
     GltfMaterial m;
     m.name = e;
     scene.materials.push_back(m);
-    TexMaterialBinding b;
-    b.file = file;
-    b.entry = e;
-    b.matchMaterial = e;
-    scene.texMaterials.push_back(b);
   }
+  test::bindEntriesByMaterialName(scene, file, entries);
   return scene;
 }
 

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "renderer/scene/scene_description.h"
 
@@ -22,6 +23,18 @@ inline std::string writeTexModule(const std::string& stem, const std::string& te
 }
 
 // A square-film camera at `eye` looking down -z.
+// Binds each entry of `texFile` to the glTF material of the same name.
+inline void bindEntriesByMaterialName(SceneDescription& scene, const std::string& texFile,
+                                      const std::vector<std::string>& entries) {
+  for (const std::string& e : entries) {
+    TexMaterialBinding b;
+    b.file = texFile;
+    b.entry = e;
+    b.matchMaterial = e;
+    scene.texMaterials.push_back(b);
+  }
+}
+
 inline CameraDesc cameraLookingDownZ(Vec3 eye, float yFovRadians) {
   CameraDesc c;
   c.cameraToWorld = Mat4(1.0f);
