@@ -121,11 +121,15 @@ class Codegen {
 
   // Whether calls to function `index` are expanded in place (the body generated at the call
   // site) rather than called: always unless it is outlined or would be duplicated too much.
+  // Decided once per function: every call site asks.
   bool inlinedAtCalls(int index) {
     if (!options_.inlineEverything || outlined_.count(index)) return false;
+    if (auto it = inlinedAtCalls_.find(index); it != inlinedAtCalls_.end()) return it->second;
     uint64_t sites = callSites_[index];
     uint64_t size = inlinedSize(program_, index);
-    return sites <= 1 || size <= options_.alwaysInlineSize || size * (sites - 1) <= options_.maxDuplicatedNodes;
+    bool inlined = sites <= 1 || size <= options_.alwaysInlineSize || size * (sites - 1) <= options_.maxDuplicatedNodes;
+    inlinedAtCalls_[index] = inlined;
+    return inlined;
   }
 
   // The body of the callee of a Call or Fold node generated in place with `args` as its
@@ -761,7 +765,8 @@ class Codegen {
   std::map<int, uint64_t> callSites_, ownSize_;
   std::set<int> loops_;      // functions whose own body has a fold
   std::set<int> foldSteps_;  // functions called as a fold's step
-  std::set<int> outlined_;  // functions kept out of line so a big entry can be emitted in parts
+  std::set<int> outlined_;   // functions kept out of line so a big entry can be emitted in parts
+  std::map<int, bool> inlinedAtCalls_;
   std::vector<FunctionKey> pending_;
   int dependenceContext_ = -1;  // the wavelength-dependence context of the function being emitted
   llvm::Value* ctx_ = nullptr;

@@ -9,7 +9,6 @@
 #include <llvm/Passes/PassBuilder.h>
 #include <llvm/Transforms/Scalar/InstSimplifyPass.h>
 #include <llvm/Transforms/IPO/AlwaysInliner.h>
-#include <llvm/Transforms/InstCombine/InstCombine.h>
 #include <llvm/Transforms/Scalar/EarlyCSE.h>
 #include <llvm/Transforms/Scalar/GVN.h>
 #include <llvm/Transforms/Scalar/SROA.h>
@@ -142,8 +141,9 @@ void optimise(llvm::Module& module, llvm::TargetMachine* tm, OptLevel opt) {
     mpm.run(module, mam);
     return;
   }
-  // A lean pipeline instead of the default O1: everything is already specialised and marked
-  // alwaysinline, so the work left is inlining, scalar clean-up and redundancy elimination.
+  // A lean pipeline instead of the default O1: everything is already specialised and calls
+  // are expanded in place by the code generator (only the entry wrappers' calls are left to
+  // the always-inliner), so the work left is scalar clean-up and redundancy elimination.
   // Measured against O1 on the benchmark textures: the same speed of generated code, about
   // half the optimisation time (bench/bench_jit.cpp, docs/abi.md). InstSimplify rather than
   // InstCombine: InstCombine spent most of its time on known-bits queries through integer

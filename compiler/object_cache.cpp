@@ -102,16 +102,16 @@ CacheLookup loadCachedObjects(const std::string& directory, const std::string& k
 }
 
 bool storeCachedObjects(const std::string& directory, const std::string& key, const std::vector<std::string>& objects) {
-  const std::string object = packObjects(objects);
+  const std::string payload = packObjects(objects);
   std::error_code ec;
   fs::create_directories(directory, ec);
   if (ec) return false;
   std::string data(kMagic, sizeof kMagic);
   putU64(data, key.size());
   data += key;
-  putU64(data, object.size());
-  putU64(data, hash64(object));
-  data += object;
+  putU64(data, payload.size());
+  putU64(data, hash64(payload));
+  data += payload;
   static std::atomic<uint64_t> counter{0};
   std::string target = cacheFilePath(directory, key);
   std::string temp = target + ".tmp." + std::to_string(getpid()) + "." + std::to_string(counter++);
