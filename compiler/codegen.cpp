@@ -123,11 +123,13 @@ class Codegen {
   // site) rather than called: always unless it is outlined or would be duplicated too much.
   // Decided once per function: every call site asks.
   bool inlinedAtCalls(int index) {
-    if (!options_.inlineEverything || outlined_.count(index)) return false;
+    if (outlined_.count(index)) return false;
     if (auto it = inlinedAtCalls_.find(index); it != inlinedAtCalls_.end()) return it->second;
     uint64_t sites = callSites_[index];
     uint64_t size = inlinedSize(program_, index);
-    bool inlined = sites <= 1 || size <= options_.alwaysInlineSize || size * (sites - 1) <= options_.maxDuplicatedNodes;
+    bool inlined = options_.inlineEverything
+                       ? sites <= 1 || size <= options_.alwaysInlineSize || size * (sites - 1) <= options_.maxDuplicatedNodes
+                       : size <= options_.quickInPlaceSize;
     inlinedAtCalls_[index] = inlined;
     return inlined;
   }

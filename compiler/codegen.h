@@ -18,7 +18,10 @@ struct CodegenOptions {
   // ...except those whose inlining would duplicate more than this many IR operations
   // (own size times the extra call sites): they stay calls, which keeps compile time down.
   uint64_t maxDuplicatedNodes = 400;
-  uint64_t alwaysInlineSize = 64;  // leaves this small are inlined wherever they are called
+  uint64_t alwaysInlineSize = 80;  // leaves this small are inlined wherever they are called
+  // Without inlineEverything (quick mode), functions at most this big are still generated in
+  // place: their call sequence would cost more machine code than their body.
+  uint64_t quickInPlaceSize = 20;
   // Entries bigger than this keep their large loops (functions with a fold, at least
   // minOutlinedLoopSize after inlining) out of line, so code generation can run in parts.
   uint64_t outlineLoopsInEntriesAbove = 1200;

@@ -27,6 +27,7 @@
 #include "compiler/codegen.h"
 #include "compiler/object_cache.h"
 #include "compiler/isel_barriers.h"
+#include "compiler/small_domain_tables.h"
 #include "compiler/parallel_emit.h"
 #include "compiler/select_lowering.h"
 
@@ -35,7 +36,7 @@ namespace tex::compiler {
 namespace {
 
 // Bump on every change to code generation: it is part of every cache key.
-constexpr const char* kCompilerVersion = "tex-compiler-16";
+constexpr const char* kCompilerVersion = "tex-compiler-17";
 
 std::string errorText(llvm::Error error) { return llvm::toString(std::move(error)); }
 
@@ -282,12 +283,14 @@ std::unique_ptr<CompiledModule> compile(const lang::ir::Program& program, const 
     module->setTargetTriple(tm->getTargetTriple().str());
     stats.codegenMs = lap();
     OptLevel opt = options.opt;
-    auto optimiseFn = [opt](llvm::Module& part) {
+    std::atomic<size_t> tables{0};  // summed over the parts, which may run on two threads
+    auto optimiseFn = [opt, &tables](llvm::Module& part) {
       std::string partError;
       llvm::TargetMachine* partTm = targetMachine(opt, partError);  // the calling thread's
       if (!partTm) return;  // emitFn reports the same error
       optimise(part, partTm, opt);
       if (opt != OptLevel::Quick) {
+        tables += tabulateSmallDomainFunctions(part);  // before the select lowering: it reads the selects
         lowerFloatSelectsToIntegerSelects(part);
         insertIntegerMultiplyBarriers(part);
       }
@@ -308,6 +311,7 @@ std::unique_ptr<CompiledModule> compile(const lang::ir::Program& program, const 
       return fail("E0501", "LLVM code generation: " + error);
     stats.optimiseMs = times.optimiseMs;
     stats.emitMs = times.emitMs;
+    stats.tables = tables;
     if (options.useCache) storeCachedObjects(directory, key, objects);
   }
   for (const std::string& object : objects) stats.objectBytes += object.size();

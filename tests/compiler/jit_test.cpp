@@ -367,3 +367,45 @@ TEST(Jit, SpectralSinCosStayWithinOneUlpOfTheCLibrary) {
                                {std::numeric_limits<float>::infinity(), 1.0f, 2.0f, 3.0f}};
   for (const auto& lanes : specials) check(lanes);
 }
+
+// Selects over an integer of a few possible values become constant tables at O1
+// (compiler/small_domain_tables.h): a masked field, a shifted field and a remainder, Float
+// and Int results, an entry that divides by zero. Every result must be the interpreter's,
+// bit for bit, over all 4096 values of the integer the fields come from.
+TEST(Jit, SmallDomainSelectsBecomeTablesAndAgreeBitForBit) {
+  Session s;
+  ModuleInfo* m = s.loadSource("tables.tex",
+                               "fn sign_of_bit(g: Int, bit: Int) -> Float = if (g & bit) == 0 { 1.0 } else { -1.0 }\n"
+                               "fn coeff(g: Int) -> Float =\n"
+                               "  if g < 8 { sign_of_bit(g, 1) } else if g == 12 || g == 14 { 0.5 * sign_of_bit(g, 2) }\n"
+                               "  else { 0.0 }\n"
+                               "fn field(g: Int) -> Float = if g > 4 { float(g) * 0.25 } else { -1.0 / float(g) }\n"
+                               "fn offset(g: Int) -> Int = if g < 6 { g * 7 } else { 100 - g }\n"
+                               "export fn t(h: Hit) -> Float {\n"
+                               "  let k = int(h.uv.x * 4096.0);\n"
+                               "  coeff(k & 15) * h.uv.y + field((k >> 3) & 7) + float(offset((k & 255) % 12))\n"
+                               "}\n");
+  ASSERT_NE(m, nullptr);
+  int fn = s.instantiate(m, "t", {TypeTable::global().hit()}, Span{});
+  for (auto& d : s.diags().items()) ADD_FAILURE() << renderDiagnostic(d);
+  ASSERT_GE(fn, 0);
+  for (compiler::OptLevel opt : {compiler::OptLevel::Quick, compiler::OptLevel::O1}) {
+    compiler::CompileOptions options;
+    options.opt = opt;
+    options.useCache = false;
+    auto module = compiler::compile(s.program(), {fn}, options, s.diags());
+    ASSERT_NE(module, nullptr);
+    if (opt == compiler::OptLevel::O1)
+      EXPECT_EQ(module->stats().tables, 3u) << "coeff, field and offset should each be one table read";
+    else
+      EXPECT_EQ(module->stats().tables, 0u) << "quick mode runs no optimisation";
+    compiler::ShadingContext ctx{{400, 500, 600, 700}, 4, nullptr};
+    for (int k = 0; k < 4096; ++k) {
+      compiler::HitAbi h = hitAbi((k + 0.5f) / 4096.0f, 0.3f + 0.0001f * float(k));
+      float jit = 0;
+      module->entry(fn)(&h, &jit, &ctx);
+      Value interp = evaluate(s.program(), fn, {hitValue(h)});
+      ASSERT_EQ(std::memcmp(&jit, &interp.f[0], sizeof(float)), 0) << "k " << k << ": jit " << jit << " interp " << interp.f[0];
+    }
+  }
+}
