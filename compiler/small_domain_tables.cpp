@@ -38,7 +38,12 @@ bool matchTwoWayPhi(llvm::PHINode* phi, const llvm::DominatorTree& dominators, T
   auto* branch = llvm::dyn_cast<llvm::BranchInst>(split->getTerminator());
   if (!branch || !branch->isConditional() || branch->getSuccessor(0) == branch->getSuccessor(1)) return false;
   // Which side of the branch an incoming edge comes from: the edge split -> merge itself, or a
-  // block only reached through that side's successor.
+  // block only reached through that side's successor. A successor entered from elsewhere too
+  // (the other side flowing into it) would make the side ambiguous: refused.
+  for (unsigned s = 0; s < 2; ++s) {
+    llvm::BasicBlock* successor = branch->getSuccessor(s);
+    if (successor != merge && successor->getSinglePredecessor() != split) return false;
+  }
   auto side = [&](llvm::BasicBlock* from, int s) {
     llvm::BasicBlock* successor = branch->getSuccessor(unsigned(s));
     return from == split ? successor == merge : dominators.dominates(successor, from) && successor != merge;
