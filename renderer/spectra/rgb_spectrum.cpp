@@ -171,14 +171,16 @@ float blackbodyNormalised(float lambdaNm, float kelvin) {
 
 namespace {
 void languageUpsampling(lang::RgbUse use, const float rgb[3], const float* lambdaNm, int count, float* out) {
+  // The colour's coefficients once for all wavelengths (rgb*At would look them up per wavelength).
   const Vec3 c(rgb[0], rgb[1], rgb[2]);
-  for (int i = 0; i < count; ++i) {
-    switch (use) {
-      case lang::RgbUse::Reflectance: out[i] = rgbReflectanceAt(c, lambdaNm[i]); break;
-      case lang::RgbUse::Unbounded: out[i] = rgbUnboundedAt(c, lambdaNm[i]); break;
-      case lang::RgbUse::Illuminant: out[i] = rgbIlluminantAt(c, lambdaNm[i]); break;
-    }
+  if (use == lang::RgbUse::Reflectance) {
+    const SigmoidPolynomial s = rgbToSigmoid(c);
+    for (int i = 0; i < count; ++i) out[i] = s(lambdaNm[i]);
+    return;
   }
+  const RgbUnbounded u = rgbToUnbounded(c);
+  for (int i = 0; i < count; ++i)
+    out[i] = use == lang::RgbUse::Illuminant ? u(lambdaNm[i]) * d65Normalised(lambdaNm[i]) : u(lambdaNm[i]);
 }
 const bool kInstalledAtStartUp = (lang::setRgbToSpectrum(&languageUpsampling), true);
 }  // namespace
