@@ -8,6 +8,9 @@
 #    REPEAT times each, interleaved; the best of each is reported, in camera paths per second
 #    (width * height * spp / seconds of rendering; scene loading and JIT compilation excluded),
 #    with the ratios tex / Mitsuba.
+# 3. Profile (PROFILE=1 and perf installed): tex's self time by component, from perf samples of
+#    one timing render: Embree, material code (the JIT's code, the closure and material layer,
+#    RGB upsampling), BSDFs, lights, the path loop, the rest.
 # 2. Agreement: each renders SPP_CMP spp with a box pixel filter on both sides (FILTER_CMP;
 #    tex's Gaussian has radius 1.5, Mitsuba's radius 2, which alone fails the per-pixel Z-test
 #    at the image border and the light's edges); tex compare (RMSE, relative MSE, per-pixel
@@ -22,6 +25,7 @@
 #   SPP_CMP   spp of the comparison images (default 256)
 #   FILTER_CMP  pixel filter of the comparison images: box (default) or gaussian
 #   THREADS   threads (default 2)
+#   PROFILE   1 (default): 3. where tex's time goes, by component (needs `perf`; skipped without)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ROOT=$(pwd)
@@ -143,4 +147,30 @@ for path, name in ((sys.argv[2], "mitsuba scalar_spectral"), (sys.argv[3], "mits
           ((name.split()[1],) + tuple(ratio) + tuple(ratio_se) +
            (" ".join("%.1f" % d for d in (ratio - 1) / ratio_se),)))
 EOF
+
+if [[ "${PROFILE:-1}" == 1 ]] && command -v perf >/dev/null; then
+  echo "== profile: tex at $SPP_TIME spp, $THREADS threads (perf, share of self time)"
+  if perf record -q -F 2000 -o "$OUT/perf.data" "$TEX" render "$SCENE" -o "$OUT/profile.exr" --spp "$SPP_TIME" \
+       "${TEX_FLAGS[@]}" >/dev/null 2>&1; then
+    perf report -i "$OUT/perf.data" --no-children --sort dso,sym -g none --stdio 2>/dev/null | awk '
+      /^ *[0-9.]+%/ {
+        share = $1 + 0
+        if ($0 ~ /embree/) part = "Embree"
+        else if ($0 ~ /\[JIT\]|Material|material|evaluateEntry|evaluateBinding|[Cc]losure|tex_rt_|Sigmoid|rgbTo|Upsampling|rgbIlluminant|d65Normalised/) part = "material code"
+        else if ($0 ~ /Bsdf|[Ll]obe|fresnel|Fresnel|ggx|GGX|[Mm]icrofacet|[Gg]lossy|[Ss]heen|lambertian/) part = "BSDFs"
+        else if ($0 ~ /Light|light/) part = "lights"
+        else if ($0 ~ /PathTracer/) part = "path loop"
+        else if ($0 ~ /Film|film|xyz|Xyz|cieXyz|Sink/) part = "film"
+        else if ($0 ~ /SceneGeometry|fillHit|shadingPoint/) part = "hit geometry"
+        else part = "other"
+        total[part] += share
+      }
+      END {
+        n = split("Embree,material code,BSDFs,lights,path loop,hit geometry,film,other", order, ",")
+        for (i = 1; i <= n; ++i) printf "   %-14s %5.1f%%\n", order[i], total[order[i]]
+      }'
+  else
+    echo "   perf record failed (perf_event_paranoid?): skipped"
+  fi
+fi
 echo "== images in $OUT"
