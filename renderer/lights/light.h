@@ -21,9 +21,12 @@ namespace tex::render {
 enum class LightKind : uint8_t { Point, Spot, Directional, Triangle, ConstantEnvironment, ImageEnvironment };
 
 struct LightLiSample {
-  Spectrum L;        // radiance arriving at the reference point along -wi (before visibility)
-  Vec3 wi;           // toward the light
-  Vec3 pLight;       // point on the light (for shadow rays); far away for directional/environment
+  // Member by member, without the block zeroing value-initialisation would add (a rep stos at
+  // every light sample, built in place in the optional the lights return).
+  LightLiSample() {}
+  Spectrum L;          // radiance arriving at the reference point along -wi (before visibility)
+  Vec3 wi{0.0f};       // toward the light
+  Vec3 pLight{0.0f};   // point on the light (for shadow rays); far away for directional/environment
   Vec3 nLight{0.0f}; // light normal at pLight (0 for point-like lights)
   float distance = 0;  // shadow ray length (infinity for directional/environment)
   float pdfW = 0;      // solid angle (delta lights: 1)

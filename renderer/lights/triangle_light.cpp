@@ -11,6 +11,7 @@ TriangleLight::TriangleLight(const TriangleLightDesc& desc, const EmissionSource
   const Vec3 c = glm::cross(desc.p1 - desc.p0, desc.p2 - desc.p0);
   const float len = std::sqrt(lengthSquared(c));
   area_ = 0.5f * len;
+  pdfA_ = area_ > 0.0f ? 1.0f / area_ : 0.0f;
   if (len > 0.0f) {
     n_ = c / len;
     if (dot3(n_, desc.normal) < 0.0f) n_ = -n_;
@@ -21,11 +22,19 @@ float TriangleLight::power() const {
   return emission_ && area_ > 0.0f ? kPi * area_ * emission_->averageRadiance() : 0.0f;
 }
 
-EmitterPoint TriangleLight::pointAt(Vec2 b) const {
+namespace {
+// A vertex attribute at barycentrics (b0, b1) of the first two vertices.
+template <class T>
+T interpolate(const T& a0, const T& a1, const T& a2, Vec2 b) {
   const float b2 = 1.0f - b.x - b.y;
+  return a0 * b.x + a1 * b.y + a2 * b2;
+}
+}  // namespace
+
+EmitterPoint TriangleLight::pointAt(Vec2 b) const {
   EmitterPoint e;
-  e.p = desc_.p0 * b.x + desc_.p1 * b.y + desc_.p2 * b2;
-  e.uv = desc_.uv0 * b.x + desc_.uv1 * b.y + desc_.uv2 * b2;
+  e.p = interpolate(desc_.p0, desc_.p1, desc_.p2, b);
+  e.uv = interpolate(desc_.uv0, desc_.uv1, desc_.uv2, b);
   e.n = n_;
   e.primitive = desc_.primitive;
   return e;
@@ -38,26 +47,31 @@ Spectrum TriangleLight::L(const EmitterPoint& point, const Vec3& w, const Wavele
 
 std::optional<LightLiSample> TriangleLight::sampleLiDeferred(const Vec3& refPoint, Vec2 u, const Wavelengths& lambda) const {
   (void)lambda;
-  if (!(area_ > 0.0f) || !emission_) return std::nullopt;
-  const EmitterPoint e = pointAt(sampleUniformTriangle(u));
-  const Vec3 toLight = e.p - refPoint;
+  // Every return returns `result`, so that it is the caller's object (NRVO): a local copied
+  // into the optional went through the stack, and the copy's 16-byte reloads of 4- and 8-byte
+  // stores stalled on store forwarding.
+  std::optional<LightLiSample> result;
+  if (!(area_ > 0.0f) || !emission_) return result;
+  const Vec2 b = sampleUniformTriangle(u);
+  const Vec3 pLight = interpolate(desc_.p0, desc_.p1, desc_.p2, b);  // pointAt's, without its EmitterPoint
+  const Vec3 toLight = pLight - refPoint;
   const float dist2 = lengthSquared(toLight);
-  if (!(dist2 > 0.0f)) return std::nullopt;
+  if (!(dist2 > 0.0f)) return result;
   const float dist = std::sqrt(dist2);
   const Vec3 wi = toLight / dist;
   const float cosLight = -dot3(wi, n_);
-  if (!(cosLight > 0.0f)) return std::nullopt;  // the back side emits nothing
-  const float pdfW = areaToSolidAnglePdf(1.0f / area_, dist2, cosLight);
-  if (!std::isfinite(pdfW)) return std::nullopt;  // grazing: the density overflows
-  LightLiSample s;
+  if (!(cosLight > 0.0f)) return result;  // the back side emits nothing
+  const float pdfW = areaToSolidAnglePdf(pdfA_, dist2, cosLight);
+  if (!std::isfinite(pdfW)) return result;  // grazing: the density overflows
+  LightLiSample& s = result.emplace();
   s.radianceDeferred = true;
-  s.uvLight = e.uv;
+  s.uvLight = interpolate(desc_.uv0, desc_.uv1, desc_.uv2, b);
   s.wi = wi;
-  s.pLight = e.p;
+  s.pLight = pLight;
   s.nLight = n_;
   s.distance = dist;
   s.pdfW = pdfW;
-  return s;
+  return result;
 }
 
 Spectrum TriangleLight::deferredRadiance(const LightLiSample& sample, const Wavelengths& lambda) const {
@@ -87,7 +101,7 @@ float TriangleLight::pdfLi(const Vec3& refPoint, const Vec3& wi, const EmitterPo
   if (!(dist2 > 0.0f)) return 0.0f;
   const float cosLight = -dot3(toLight, n_) / std::sqrt(dist2);
   if (!(cosLight > 0.0f)) return 0.0f;
-  const float pdfW = areaToSolidAnglePdf(1.0f / area_, dist2, cosLight);
+  const float pdfW = areaToSolidAnglePdf(pdfA_, dist2, cosLight);
   return std::isfinite(pdfW) ? pdfW : 0.0f;
 }
 
@@ -101,14 +115,14 @@ std::optional<LightLeSample> TriangleLight::sampleLe(Vec2 uPos, Vec2 uDir, const
   s.ray.direction = Frame::fromNormal(n_).toWorld(wLocal);
   s.nLight = n_;
   s.L = emission_->radiance(e, lambda);
-  s.pdfPosA = 1.0f / area_;
+  s.pdfPosA = pdfA_;
   s.pdfDirW = cosineHemispherePdfW(wLocal.z);
   return s;
 }
 
 void TriangleLight::pdfLe(const Ray& ray, const Vec3& nLight, float& pdfPosA, float& pdfDirW) const {
   (void)nLight;
-  pdfPosA = area_ > 0.0f ? 1.0f / area_ : 0.0f;
+  pdfPosA = pdfA_;
   pdfDirW = cosineHemispherePdfW(dot3(ray.direction, n_));
 }
 

@@ -41,6 +41,7 @@ class TriangleLight final : public Light {
   const EmissionSource* emission_;
   Vec3 n_{0.0f};
   float area_ = 0;
+  float pdfA_ = 0;  // 1 / area_, once rather than a division per light sample
 };
 
 std::unique_ptr<Light> makeTriangleLight(const TriangleLightDesc& desc, const EmissionSource* emission);
