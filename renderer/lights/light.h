@@ -8,6 +8,7 @@
 // Radiance values are spectral, evaluated at the path's wavelengths; each light owns a
 // SpectrumSource for its emission (renderer/spectra/).
 #pragma once
+#include <algorithm>
 #include <memory>
 #include <optional>
 #include <span>
@@ -114,13 +115,32 @@ class Light {
 class LightSampler {
  public:
   explicit LightSampler(std::span<const Light* const> lights);
-  // The chosen light's index and its probability; nullopt when no light has power.
-  std::optional<std::pair<int, float>> sample(float u) const;
+  // The chosen light's index and its probability; nullopt when no light has power. Inline:
+  // returned from a call, the optional pair was assembled on the stack and reloaded across its
+  // 4-byte stores (a store-forwarding stall at every light sample).
+  std::optional<std::pair<int, float>> sample(float u) const {
+    // The first light whose CDF exceeds u; a zero-pmf light has the same CDF as its
+    // predecessor, so upper_bound never lands on it, except past the end from rounding (then
+    // take the last light with power).
+    int i = cdf_.size() <= kLinearSearchMax ? countNotAbove(u)
+                                            : int(std::upper_bound(cdf_.begin(), cdf_.end(), u) - cdf_.begin());
+    i = std::min(i, size() - 1);
+    while (i >= 0 && pmf_[size_t(i)] == 0.0f) --i;
+    if (i < 0) return std::nullopt;
+    return std::make_pair(i, pmf_[size_t(i)]);
+  }
   float pmf(int lightIndex) const;
   int size() const { return int(pmf_.size()); }
 
  private:
   static constexpr size_t kLinearSearchMax = 16;  // up to this many lights, sample() counts
+  // upper_bound's index by counting (no branch to mispredict on a random u): the CDF is
+  // sorted, so the entries not above u come first; !(u < c) also counts all for a NaN u.
+  int countNotAbove(float u) const {
+    int i = 0;
+    for (const float c : cdf_) i += !(u < c);
+    return i;
+  }
   std::vector<float> pmf_, cdf_;
 };
 

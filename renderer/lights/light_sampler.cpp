@@ -23,25 +23,6 @@ LightSampler::LightSampler(std::span<const Light* const> lights) {
   }
 }
 
-std::optional<std::pair<int, float>> LightSampler::sample(float u) const {
-  // The first light whose CDF exceeds u; a zero-pmf light has the same CDF as its predecessor,
-  // so upper_bound never lands on it, except past the end from rounding (then take the last
-  // light with power).
-  int i;
-  if (cdf_.size() <= kLinearSearchMax) {
-    // upper_bound's index by counting (no branch to mispredict on a random u): the CDF is
-    // sorted, so the entries not above u come first; !(u < c) also counts all for a NaN u.
-    i = 0;
-    for (const float c : cdf_) i += !(u < c);
-  } else {
-    i = int(std::upper_bound(cdf_.begin(), cdf_.end(), u) - cdf_.begin());
-  }
-  i = std::min(i, size() - 1);
-  while (i >= 0 && pmf_[size_t(i)] == 0.0f) --i;
-  if (i < 0) return std::nullopt;
-  return std::make_pair(i, pmf_[size_t(i)]);
-}
-
 float LightSampler::pmf(int lightIndex) const {
   return lightIndex >= 0 && lightIndex < size() ? pmf_[size_t(lightIndex)] : 0.0f;
 }
