@@ -3,6 +3,8 @@
 
 #include "lang/rgb_upsampling.h"
 
+#include <emmintrin.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -121,19 +123,53 @@ RgbUnbounded rgbToUnbounded(const Vec3& rgbIn) {
   return {rgbToSigmoid(rgb / scale), scale};
 }
 
+namespace {
+
+// Four values of the sigmoid polynomial at once, with the scalar operator()'s operations in its
+// order (SSE2's sqrt and division round like the scalar ones, and x86-64 has no FMA to
+// contract into): the same bits.
+__m128 sigmoidPolynomial4(const SigmoidPolynomial& s, __m128 lambdaNm) {
+  const __m128 half = _mm_set1_ps(0.5f), one = _mm_set1_ps(1.0f);
+  const __m128 x = _mm_add_ps(
+      _mm_mul_ps(_mm_add_ps(_mm_mul_ps(_mm_set1_ps(s.c0), lambdaNm), _mm_set1_ps(s.c1)), lambdaNm), _mm_set1_ps(s.c2));
+  const __m128 y = _mm_add_ps(half, _mm_div_ps(_mm_mul_ps(half, x), _mm_sqrt_ps(_mm_add_ps(one, _mm_mul_ps(x, x)))));
+  // sigmoid()'s exact limits beyond |x| = 1e18 (NaN compares false there too, and stays NaN).
+  const __m128 beyond = _mm_cmpgt_ps(_mm_andnot_ps(_mm_set1_ps(-0.0f), x), _mm_set1_ps(1e18f));
+  const __m128 limit = _mm_and_ps(_mm_cmpgt_ps(x, _mm_setzero_ps()), one);
+  return _mm_or_ps(_mm_and_ps(beyond, limit), _mm_andnot_ps(beyond, y));
+}
+
+// scale * shape(lambda), times d65Normalised(lambda) for an illuminant, at the group's
+// wavelengths (lanes past the group's count zero; scale 1 multiplies exactly). Four lanes are
+// one vector store: the callers' vector loads of four scalar stores stalled on store forwarding.
+Spectrum sigmoidSpectrum(const SigmoidPolynomial& shape, float scale, bool illuminant, const Wavelengths& lambda) {
+  Spectrum s;
+  for (int i = 0; i < lambda.count; i += 4) {
+    const float* l = &lambda.lambdaNm[size_t(i)];
+    __m128 v = _mm_mul_ps(_mm_set1_ps(scale), sigmoidPolynomial4(shape, _mm_loadu_ps(l)));
+    if (illuminant)
+      v = _mm_mul_ps(v, _mm_setr_ps(d65Normalised(l[0]), d65Normalised(l[1]), d65Normalised(l[2]), d65Normalised(l[3])));
+    _mm_store_ps(&s.v[i], v);
+  }
+  if (lambda.count % 4 != 0)
+    for (int i = lambda.count; i < kLanes; ++i) s.v[i] = 0.0f;
+  return s;
+}
+
+}  // namespace
+
 Spectrum rgbReflectanceSpectrum(const Vec3& rgb, const Wavelengths& lambda) {
-  const SigmoidPolynomial s = rgbToSigmoid(rgb);
-  return sampleSpectrum(lambda, [&](float l) { return s(l); });
+  return sigmoidSpectrum(rgbToSigmoid(rgb), 1.0f, false, lambda);
 }
 
 Spectrum rgbUnboundedSpectrum(const Vec3& rgb, const Wavelengths& lambda) {
   const RgbUnbounded u = rgbToUnbounded(rgb);
-  return sampleSpectrum(lambda, [&](float l) { return u(l); });
+  return sigmoidSpectrum(u.shape, u.scale, false, lambda);
 }
 
 Spectrum rgbIlluminantSpectrum(const Vec3& rgb, const Wavelengths& lambda) {
   const RgbUnbounded u = rgbToUnbounded(rgb);
-  return sampleSpectrum(lambda, [&](float l) { return u(l) * d65Normalised(l); });
+  return sigmoidSpectrum(u.shape, u.scale, true, lambda);
 }
 
 float rgbReflectanceAt(const Vec3& rgb, float lambdaNm) { return rgbToSigmoid(rgb)(lambdaNm); }
