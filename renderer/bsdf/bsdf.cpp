@@ -139,14 +139,9 @@ float Bsdf::pdfForLane(const Vec3& woWorld, const Vec3& wiWorld, TransportMode m
   return localPdf(wo, wi, mode, lane);
 }
 
-std::optional<BsdfSample> Bsdf::sample(const Vec3& woWorld, float uc, Vec2 u2, TransportMode mode) const {
-  const Vec3 wo = frame_.toLocal(woWorld);
-  const float woNg = dot3(woWorld, ng_);
-  if (degenerate(wo.z) || degenerate(woNg)) return std::nullopt;
-
-  float weights[kMaxLobes + 1];
-  const float total = componentWeights(wo, weights);
-  if (!(total > 0.0f)) return std::nullopt;
+int Bsdf::chooseComponent(const Vec3& wo, float uc, float* weights, float& total, float& ucLobe) const {
+  total = componentWeights(wo, weights);
+  if (!(total > 0.0f)) return -1;
   const int components = count_ + 1;  // the last one is the coat (weight 0 without one)
 
   // Pick a component with uc and stretch uc's sub-interval back to [0,1) for its own choice.
@@ -166,26 +161,50 @@ std::optional<BsdfSample> Bsdf::sample(const Vec3& woWorld, float uc, Vec2 u2, T
     chosen = lastNonZero;
     cdfBefore = total - weights[chosen];
   }
-  const float ucLobe = std::clamp((target - cdfBefore) / weights[chosen], 0.0f, kOneMinusEpsilon);
-  const float selectionPdf = weights[chosen] / total;
+  ucLobe = std::clamp((target - cdfBefore) / weights[chosen], 0.0f, kOneMinusEpsilon);
+  return chosen;
+}
 
+std::optional<BsdfSample> Bsdf::sample(const Vec3& woWorld, float uc, Vec2 u2, TransportMode mode) const {
+  const Vec3 wo = frame_.toLocal(woWorld);
+  const float woNg = dot3(woWorld, ng_);
+  float weights[kMaxLobes + 1];
+  float total = 0.0f, ucLobe = 0.0f;
+  const int chosen = degenerate(wo.z) || degenerate(woNg) ? -1 : chooseComponent(wo, uc, weights, total, ucLobe);
   const bool coatChosen = chosen == count_;
-  std::optional<BsdfSample> s =
-      coatChosen ? coatSample(coat_, wo, u2) : lobeSample(storage_.lobes[chosen], wo, ucLobe, u2, mode);
-  if (!s) return std::nullopt;
+  // Every return names s, so s is the caller's object and the lobe writes its sample there:
+  // a local copy returned at the end was read back in 16-byte pieces over the lobe's narrower
+  // stores (a store-forwarding stall).
+  std::optional<BsdfSample> s = chosen < 0  ? std::optional<BsdfSample>()
+                                : coatChosen ? coatSample(coat_, wo, u2)
+                                             : lobeSample(storage_.lobes[chosen], wo, ucLobe, u2, mode);
+  if (!s) return s;
   const Vec3 wi = s->wi;
   const Vec3 wiWorld = frame_.toWorld(wi);
   const PairCosines c{wo.z, wi.z, woNg, dot3(wiWorld, ng_)};
-  if (!sidesAgree(c)) return std::nullopt;
+  if (!sidesAgree(c)) {
+    s.reset();
+    return s;
+  }
 
   if (s->specular) {
-    s->pdfW *= selectionPdf;  // the Dirac lobe's own f; the others have no mass on its direction
+    s->pdfW *= weights[chosen] / total;  // the Dirac lobe's own f; the others have no mass on its direction
     if (!coatChosen && hasCoat_ && storage_.lobes[chosen].underCoat) s->f *= coatTransmittance(coat_, wo, wi);
   } else {
     // The direction could have come from any non-specular component: the mixture's f and pdf.
-    s->f = localEval(wo, wi, mode);
-    s->pdfW = localPdf(wo, wi, mode, 0, weights, total);
-    if (!(s->pdfW > 0.0f)) return std::nullopt;
+    // For a lone Lambertian lobe, localEval and localPdf would re-evaluate the lobe that made
+    // the sample: its own values, summed and weighted as they do (0 + f; (0 + w p) / total).
+    if (isLoneLambertian()) {
+      s->f = Spectrum() + s->f;
+      s->pdfW = (0.0f + weights[0] * s->pdfW) / total;
+    } else {
+      s->f = localEval(wo, wi, mode);
+      s->pdfW = localPdf(wo, wi, mode, 0, weights, total);
+    }
+    if (!(s->pdfW > 0.0f)) {
+      s.reset();
+      return s;
+    }
     // Every lane's density differs at this vertex when a lobe's does (bsdf.h, `dispersive`).
     s->dispersive = s->dispersive || hasDispersiveDensity_;
   }

@@ -152,6 +152,11 @@ class Bsdf {
   static float selectionWeight(const Lobe& lobe);
   // Selection weights for this wo of the lobes and, at index count_, of the coat; the total.
   float componentWeights(const Vec3& wo, float* weights) const;
+  // Picks the component sample() uses for uc (-1: no weight at this wo); fills the weights
+  // and total of componentWeights and uc stretched to the chosen component's interval.
+  int chooseComponent(const Vec3& wo, float uc, float* weights, float& total, float& ucLobe) const;
+  // One Lambertian lobe and no coat: the mixture's f and pdf are the lobe's own.
+  bool isLoneLambertian() const { return count_ == 1 && !hasCoat_ && storage_.lobes[0].kind == LobeKind::Lambertian; }
   // Sum of the non-specular lobes' values (base lobes attenuated by the coat) and the coat's.
   Spectrum localEval(const Vec3& wo, const Vec3& wi, TransportMode mode) const;
   // Selection-weighted density of the non-specular components (lane: which eta is the hero),
