@@ -40,11 +40,15 @@ struct Walker {
   ClosureEvaluation result;
   bool underCoat = false;  // inside the base of a layer whose coat the Bsdf holds
   // Inside the base of a layer whose coat is a sheen: its colour (per lane, in [0, 1]) and alpha.
+  // (A pointer to the Layer case's own spectrum: a Spectrum member, 32-byte aligned, padded the
+  // Walker to 96 bytes that its constructor cleared with a rep stos at every shading point.)
   bool underSheen = false;
-  Spectrum sheenColour{};
+  const Spectrum* sheenColour = nullptr;
   float sheenAlpha = 0;
 
-  void addLobe(Lobe lobe) {
+  // By reference: a by-value Lobe was copied once more through the stack, its 16-byte loads
+  // stalling on the byte and float stores that had just built it.
+  void addLobe(Lobe& lobe) {
     if (lobe.weight.isBlack()) return;
     lobe.underCoat = underCoat;
     if (!bsdf->add(lobe)) result.ok = false;
@@ -102,7 +106,7 @@ struct Walker {
         lobe.kind = underSheen ? LobeKind::LambertianUnderSheen : LobeKind::Lambertian;
         lobe.weight = weight * clampZero(paramSpectrum(node.paramKind, node.params, lambda, ParamUse::Reflectance));
         if (underSheen) {
-          lobe.a = sheenColour;
+          lobe.a = *sheenColour;
           lobe.roughness = sheenAlpha;
         }
         addLobe(lobe);
@@ -191,11 +195,13 @@ struct Walker {
           const compiler::ClosureNode& sheenNode = arena.nodes[c];
           walk(c, weight, depth + 1);
           underSheen = true;
-          sheenColour = sheenReflectance(sheenNode);
-          for (int i = 0; i < kLanes; ++i) sheenColour.v[i] = std::min(sheenColour.v[i], 1.0f);
+          Spectrum colour = sheenReflectance(sheenNode);
+          for (int i = 0; i < kLanes; ++i) colour.v[i] = std::min(colour.v[i], 1.0f);
+          sheenColour = &colour;
           sheenAlpha = sheenRoughnessOf(sheenNode);
           walk(node.b, weight, depth + 1);
           underSheen = false;
+          sheenColour = nullptr;
           return;
         }
         // The coat must be a dielectric interface (smooth or rough); the base's lobes are
@@ -286,7 +292,7 @@ ClosureEvaluation evaluateEntry(compiler::EntryFn entry, const float* extraArgs,
     result.ok = false;
     return result;
   }
-  Walker walker{arena, lambda, bsdf, emission, {}};
+  Walker walker(arena, lambda, bsdf, emission);
   walker.walk(root, Spectrum(1.0f), 0);
   return walker.result;
 }
