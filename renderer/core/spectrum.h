@@ -4,6 +4,10 @@
 #pragma once
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "renderer/color/wavelengths.h"
 
@@ -50,10 +54,18 @@ struct Spectrum {
     return r *= inv;
   }
 
+  // Both tests compare all lanes packed (SSE2: two compares and a movemask) instead of a
+  // branch per lane: they are asked several times per path vertex.
   bool isBlack() const {
+#if defined(__SSE2__)
+    const __m128 zero = _mm_setzero_ps();  // cmpneq is true for NaN too, as x != 0 is
+    const __m128 nonZero = _mm_or_ps(_mm_cmpneq_ps(_mm_load_ps(v), zero), _mm_cmpneq_ps(_mm_load_ps(v + 4), zero));
+    return _mm_movemask_ps(nonZero) == 0;
+#else
     for (float x : v)
       if (x != 0.0f) return false;
     return true;
+#endif
   }
   float maxValue() const {
     float m = v[0];
@@ -67,9 +79,17 @@ struct Spectrum {
     return count > 0 ? s / float(count) : 0.0f;
   }
   bool hasNaNOrInf() const {
+#if defined(__SSE2__)
+    // |x| <= FLT_MAX is false exactly for NaN and infinities.
+    const __m128 signMask = _mm_set1_ps(-0.0f), maxFinite = _mm_set1_ps(std::numeric_limits<float>::max());
+    const __m128 finiteLo = _mm_cmple_ps(_mm_andnot_ps(signMask, _mm_load_ps(v)), maxFinite);
+    const __m128 finiteHi = _mm_cmple_ps(_mm_andnot_ps(signMask, _mm_load_ps(v + 4)), maxFinite);
+    return _mm_movemask_ps(_mm_and_ps(finiteLo, finiteHi)) != 0xF;
+#else
     for (float x : v)
       if (!std::isfinite(x)) return true;
     return false;
+#endif
   }
 };
 
