@@ -46,6 +46,9 @@ struct Walker {
   const Spectrum* sheenColour = nullptr;
   float sheenAlpha = 0;
 
+  Walker(const compiler::ClosureArena& a, const Wavelengths& l, Bsdf* b, Spectrum& e)
+      : arena(a), lambda(l), bsdf(b), emission(e) {}
+
   // By reference: a by-value Lobe was copied once more through the stack, its 16-byte loads
   // stalling on the byte and float stores that had just built it.
   void addLobe(Lobe& lobe) {
