@@ -5,7 +5,11 @@
 #include "renderer/geometry/alpha_test.h"
 
 #include <cmath>
+#include <cstddef>
 #include <cstring>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 #include <mutex>
 
 namespace tex::render {
@@ -46,9 +50,19 @@ TriangleFrame triangleFrame(const Vec3 p[3], const Vec2* uv /* 3 or null */, boo
   return f;
 }
 
-// Our ray as Embree's: over (0, tMax), every geometry mask.
-RTCRay embreeRay(const Ray& ray) {
-  RTCRay r;
+// Our ray as Embree's: over (0, tMax), every geometry mask. Written as three 16-byte stores:
+// Embree loads origin + tnear and direction + time as vectors, which stalled on store
+// forwarding when the fields were written one by one (8-, 4- and 4-byte stores).
+void writeEmbreeRay(const Ray& ray, RTCRay& r) {
+#if defined(__SSE2__)
+  static_assert(offsetof(RTCRay, tnear) == 12 && offsetof(RTCRay, time) == 28 && offsetof(RTCRay, flags) == 44);
+  _mm_storeu_ps(&r.org_x, _mm_setr_ps(ray.origin.x, ray.origin.y, ray.origin.z, 0.0f));
+  _mm_storeu_ps(&r.dir_x, _mm_setr_ps(ray.direction.x, ray.direction.y, ray.direction.z, 0.0f));
+  uint32_t tFarBits;
+  std::memcpy(&tFarBits, &ray.tMax, sizeof(tFarBits));
+  // tfar, mask (every geometry), id, flags
+  _mm_storeu_si128(reinterpret_cast<__m128i*>(&r.tfar), _mm_setr_epi32(int(tFarBits), -1, 0, 0));
+#else
   r.org_x = ray.origin.x;
   r.org_y = ray.origin.y;
   r.org_z = ray.origin.z;
@@ -61,7 +75,7 @@ RTCRay embreeRay(const Ray& ray) {
   r.mask = 0xFFFFFFFFu;
   r.id = 0;
   r.flags = 0;
-  return r;
+#endif
 }
 
 }  // namespace
@@ -253,7 +267,7 @@ bool SceneGeometry::intersect(const Ray& ray, SurfaceHit& hit) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRayHit rh;
-  rh.ray = embreeRay(ray);
+  writeEmbreeRay(ray, rh.ray);
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
   rtcIntersect1(impl_->top, &context, &rh);
@@ -268,7 +282,8 @@ bool SceneGeometry::intersect(const Ray& ray, SurfaceHit& hit) const {
 bool SceneGeometry::occluded(const Ray& ray) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
-  RTCRay r = embreeRay(ray);
+  RTCRay r;
+  writeEmbreeRay(ray, r);
   rtcOccluded1(impl_->top, &context, &r);
   return r.tfar < 0.0f;  // Embree sets tfar to -inf on a hit
 }
