@@ -66,21 +66,48 @@ WavelengthGroup sampleWavelengthGroup(float u, int count) {
   // With t = tanh(a (538 - lambda)) = A - (A + B) u, lambda = 538 - log((1 + t) / (1 - t)) / (2 a)
   // and the density a / ((A + B) cosh^2) is a (1 - t^2) / (A + B): no cosh needed (this runs
   // for every path). The ratio is formed in double (1 - t >= 0.029: no cancellation).
-  double t[kMaxWavelengths];
-  alignas(16) float ratio[kMaxWavelengths] = {1, 1, 1, 1, 1, 1, 1, 1};  // unused lanes: log 1
-  for (int j = 0; j < group.count; ++j) {
-    float uj = u + float(j) / float(group.count);
-    if (uj >= 1.0f) uj -= 1.0f;
-    t[j] = kTanhLow - kTanhSpan * double(uj);
-    ratio[j] = float((1.0 + t[j]) / (1.0 - t[j]));
-  }
-  alignas(16) float logRatio[kMaxWavelengths];
-  for (int j = 0; j < group.count; j += 4) _mm_store_ps(&logRatio[j], log4(_mm_load_ps(&ratio[j])));
-  for (int j = 0; j < group.count; ++j) {
-    const double lambda = kCentreNm - kNmPerLog * double(logRatio[j]);
-    group.lambdaNm[j] = std::clamp(float(lambda), kVisibleLambdaMinNm, std::nextafter(kVisibleLambdaMaxNm, 0.0f));
-    group.pdfLambda[j] = group.lambdaNm[j] == float(lambda) ? float(kA / kTanhSpan * (1.0 - t[j] * t[j]))
-                                                            : visibleWavelengthPdf(group.lambdaNm[j]);
+  // Four wavelengths at a time in SSE2 registers, float and double, with the scalar formula's
+  // operations in its order (SSE2 arithmetic and conversions round as the scalar ones do): the
+  // ratios stored lane by lane and reloaded as one vector for log4 stalled on store forwarding.
+  const __m128 one = _mm_set1_ps(1.0f);
+  const __m128 countF = _mm_set1_ps(float(group.count));
+  const __m128 uu = _mm_set1_ps(u);
+  const __m128d tanhLow = _mm_set1_pd(kTanhLow);
+  const __m128d tanhSpan = _mm_set1_pd(kTanhSpan);
+  const __m128d oneD = _mm_set1_pd(1.0);
+  const __m128d centre = _mm_set1_pd(kCentreNm);
+  const __m128d nmPerLog = _mm_set1_pd(kNmPerLog);
+  const __m128d pdfScale = _mm_set1_pd(kA / kTanhSpan);
+  const __m128 lo = _mm_set1_ps(kVisibleLambdaMinNm);
+  const __m128 hi = _mm_set1_ps(std::nextafter(kVisibleLambdaMaxNm, 0.0f));
+  for (int j0 = 0; j0 < group.count; j0 += 4) {
+    const __m128i lane = _mm_add_epi32(_mm_set1_epi32(j0), _mm_setr_epi32(0, 1, 2, 3));
+    const __m128 used = _mm_castsi128_ps(_mm_cmplt_epi32(lane, _mm_set1_epi32(group.count)));
+    __m128 uj = _mm_add_ps(uu, _mm_div_ps(_mm_cvtepi32_ps(lane), countF));
+    uj = _mm_sub_ps(uj, _mm_and_ps(_mm_cmpge_ps(uj, one), one));
+    const __m128d tLow = _mm_sub_pd(tanhLow, _mm_mul_pd(tanhSpan, _mm_cvtps_pd(uj)));
+    const __m128d tHigh = _mm_sub_pd(tanhLow, _mm_mul_pd(tanhSpan, _mm_cvtps_pd(_mm_movehl_ps(uj, uj))));
+    const __m128 ratio = _mm_movelh_ps(_mm_cvtpd_ps(_mm_div_pd(_mm_add_pd(oneD, tLow), _mm_sub_pd(oneD, tLow))),
+                                       _mm_cvtpd_ps(_mm_div_pd(_mm_add_pd(oneD, tHigh), _mm_sub_pd(oneD, tHigh))));
+    // Unused lanes take log 1.
+    const __m128 logRatio = log4(_mm_or_ps(_mm_and_ps(used, ratio), _mm_andnot_ps(used, one)));
+    const __m128d lambdaLow = _mm_sub_pd(centre, _mm_mul_pd(nmPerLog, _mm_cvtps_pd(logRatio)));
+    const __m128d lambdaHigh =
+        _mm_sub_pd(centre, _mm_mul_pd(nmPerLog, _mm_cvtps_pd(_mm_movehl_ps(logRatio, logRatio))));
+    const __m128 lambda = _mm_movelh_ps(_mm_cvtpd_ps(lambdaLow), _mm_cvtpd_ps(lambdaHigh));
+    // std::clamp(v, lo, hi) is v < lo ? lo : (hi < v ? hi : v): maxps(lo, v) then minps(hi, v).
+    const __m128 clamped = _mm_min_ps(hi, _mm_max_ps(lo, lambda));
+    const __m128 pdf = _mm_movelh_ps(
+        _mm_cvtpd_ps(_mm_mul_pd(pdfScale, _mm_sub_pd(oneD, _mm_mul_pd(tLow, tLow)))),
+        _mm_cvtpd_ps(_mm_mul_pd(pdfScale, _mm_sub_pd(oneD, _mm_mul_pd(tHigh, tHigh)))));
+    // Unused lanes stay 0, as the value-initialised arrays had them.
+    _mm_storeu_ps(&group.lambdaNm[j0], _mm_and_ps(used, clamped));
+    _mm_storeu_ps(&group.pdfLambda[j0], _mm_and_ps(used, pdf));
+    const int moved = _mm_movemask_ps(_mm_andnot_ps(_mm_cmpeq_ps(clamped, lambda), used));
+    if (moved != 0) {
+      for (int k = 0; k < 4; ++k)
+        if (moved & (1 << k)) group.pdfLambda[j0 + k] = visibleWavelengthPdf(group.lambdaNm[j0 + k]);
+    }
   }
   return group;
 }
