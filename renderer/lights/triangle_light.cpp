@@ -50,20 +50,34 @@ std::optional<LightLiSample> TriangleLight::sampleLiDeferred(const Vec3& refPoin
   // Every return returns `result`, so that it is the caller's object (NRVO): a local copied
   // into the optional went through the stack, and the copy's 16-byte reloads of 4- and 8-byte
   // stores stalled on store forwarding.
-  std::optional<LightLiSample> result;
-  if (!(area_ > 0.0f) || !emission_) return result;
+  // Engaged from the start and reset() where there is no sample: a default-constructed optional
+  // had GCC zero its whole 128-byte storage (rep stos) at every call, before emplace() wrote it.
+  std::optional<LightLiSample> result(std::in_place);
+  if (!(area_ > 0.0f) || !emission_) {
+    result.reset();
+    return result;
+  }
   const Vec2 b = sampleUniformTriangle(u);
   const Vec3 pLight = interpolate(desc_.p0, desc_.p1, desc_.p2, b);  // pointAt's, without its EmitterPoint
   const Vec3 toLight = pLight - refPoint;
   const float dist2 = lengthSquared(toLight);
-  if (!(dist2 > 0.0f)) return result;
+  if (!(dist2 > 0.0f)) {
+    result.reset();
+    return result;
+  }
   const float dist = std::sqrt(dist2);
   const Vec3 wi = toLight / dist;
   const float cosLight = -dot3(wi, n_);
-  if (!(cosLight > 0.0f)) return result;  // the back side emits nothing
+  if (!(cosLight > 0.0f)) {  // the back side emits nothing
+    result.reset();
+    return result;
+  }
   const float pdfW = areaToSolidAnglePdf(pdfA_, dist2, cosLight);
-  if (!std::isfinite(pdfW)) return result;  // grazing: the density overflows
-  LightLiSample& s = result.emplace();
+  if (!std::isfinite(pdfW)) {  // grazing: the density overflows
+    result.reset();
+    return result;
+  }
+  LightLiSample& s = *result;
   s.radianceDeferred = true;
   s.uvLight = interpolate(desc_.uv0, desc_.uv1, desc_.uv2, b);
   s.wi = wi;
