@@ -69,8 +69,15 @@ inline bool sameHemisphere(const Vec3& a, const Vec3& b) { return a.z * b.z > 0.
 // coordinates (a relative epsilon: float rounding of a hit point grows with |p|, so a fixed
 // epsilon fails on both tiny and huge scenes). `ng` need not face `direction`.
 inline Vec3 offsetRayOrigin(const Vec3& p, const Vec3& ng, const Vec3& direction) {
-  const float magnitude = std::fmax(std::fmax(std::fabs(p.x), std::fabs(p.y)), std::fabs(p.z));
-  const float eps = 1e-4f * std::fmax(magnitude, 1e-3f) + 1e-7f;
+  // std::fmax(std::fmax(std::fmax(|x|, |y|), |z|), 1e-3) is the largest of the values that are
+  // not NaN (fmax drops a NaN operand), 1e-3 included: a > m ? a : m keeps m for a NaN a and,
+  // with m starting from 1e-3, is that maximum, in maxss instructions (fmaxf was a libm call).
+  float magnitude = 1e-3f;
+  const float ax = std::fabs(p.x), ay = std::fabs(p.y), az = std::fabs(p.z);
+  magnitude = ax > magnitude ? ax : magnitude;
+  magnitude = ay > magnitude ? ay : magnitude;
+  magnitude = az > magnitude ? az : magnitude;
+  const float eps = 1e-4f * magnitude + 1e-7f;
   const Vec3 offset = ng * (dot3(ng, direction) >= 0.0f ? eps : -eps);
   return p + offset;
 }
