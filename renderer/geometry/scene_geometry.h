@@ -19,6 +19,9 @@ inline float boundsRadius(const Bounds3& b) { return b.empty() ? 0.0f : glm::len
 
 // What a ray hit, in world space.
 struct SurfaceHit {
+  // Member by member, without the block zeroing value-initialisation would add (a rep stos
+  // at every path's hit).
+  SurfaceHit() {}
   float t = 0;
   Vec3 p{0.0f};        // position (recomputed from barycentrics, not origin + t d)
   Vec3 ng{0.0f};       // unit geometric normal: the triangle's front side (counter-clockwise winding)
