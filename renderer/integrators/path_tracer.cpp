@@ -129,7 +129,13 @@ Spectrum PathTracer::radiance(uint64_t index, const Ray& primary, const PixelFoo
   Spectrum L;
   Spectrum beta;  // throughput divided by the hero's (lane 0's) sampling densities
   for (int i = 0; i < n; ++i) beta.v[i] = 1.0f;
-  Ray ray = primary;
+  // Field by field: the camera writes the primary ray with 8-, 4- and 16-byte stores, and the
+  // struct copy's 16-byte load of origin + direction.x spanned three of them (a store-forwarding
+  // stall per path).
+  Ray ray;
+  ray.origin = primary.origin;
+  ray.direction = primary.direction;
+  ray.tMax = primary.tMax;
   bool specularBounce = true;  // the camera vertex counts as specular: emission seen directly
   float prevPdfW = 0.0f;       // the BSDF technique's density of the last direction (for MIS)
   Vec3 prevP = primary.origin;
