@@ -88,11 +88,6 @@ float Bsdf::componentWeights(const Vec3& wo, float* weights) const {
 }
 
 Spectrum Bsdf::localEval(const Vec3& wo, const Vec3& wi, TransportMode mode) const {
-  if (isLoneLambertian()) {  // the loop below for one Lambertian lobe: 0 + its value
-    Spectrum f;
-    f += lambertianEval(storage_.lobes[0], wo, wi);
-    return f;
-  }
   Spectrum f, coated;
   for (int i = 0; i < count_; ++i) {
     if (lobeIsSpecular(storage_.lobes[i].kind)) continue;
@@ -110,14 +105,6 @@ Spectrum Bsdf::localEval(const Vec3& wo, const Vec3& wi, TransportMode mode) con
 }
 
 float Bsdf::localPdf(const Vec3& wo, const Vec3& wi, TransportMode mode, int lane) const {
-  if (isLoneLambertian()) {
-    // What componentWeights and the weighted sum below give for one Lambertian lobe (its
-    // density does not depend on the lane): total = (0 + w) + 0, pdf = (0 + w p) / total.
-    const float w = selection_[0];
-    const float total = (0.0f + w) + 0.0f;
-    if (!(total > 0.0f)) return 0.0f;
-    return (w > 0.0f ? 0.0f + w * lambertianPdf(wo, wi) : 0.0f) / total;
-  }
   float weights[kMaxLobes + 1];
   const float total = componentWeights(wo, weights);
   return localPdf(wo, wi, mode, lane, weights, total);

@@ -77,14 +77,6 @@ struct BsdfSample {
 Spectrum lobeEval(const Lobe& lobe, const Vec3& wo, const Vec3& wi, TransportMode mode);
 float lobePdf(const Lobe& lobe, const Vec3& wo, const Vec3& wi, TransportMode mode);
 std::optional<BsdfSample> lobeSample(const Lobe& lobe, const Vec3& wo, float uc, Vec2 u2, TransportMode mode);
-// The Lambertian lobe's f = weight / pi on wo's side and its cosine density; inline so that
-// Bsdf's one-lobe paths compute exactly what lobeEval and lobePdf do, without their calls.
-inline Spectrum lambertianEval(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
-  return sameHemisphere(wo, wi) ? lobe.weight * kInvPi : Spectrum();
-}
-inline float lambertianPdf(const Vec3& wo, const Vec3& wi) {
-  return sameHemisphere(wo, wi) ? absCosTheta(wi) * kInvPi : 0.0f;
-}
 inline bool lobeIsSpecular(LobeKind kind) {
   return kind == LobeKind::SmoothDielectric || kind == LobeKind::SmoothConductor || kind == LobeKind::ThinDielectric;
 }

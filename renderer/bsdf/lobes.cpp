@@ -16,7 +16,13 @@ namespace {
 
 // ---- Lambertian: f = weight / pi on wo's side, cosine-weighted sampling.
 
-// (lambertianEval and lambertianPdf are inline in bsdf.h.)
+Spectrum lambertianEval(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
+  return sameHemisphere(wo, wi) ? lobe.weight * kInvPi : Spectrum();
+}
+
+float lambertianPdf(const Vec3& wo, const Vec3& wi) {
+  return sameHemisphere(wo, wi) ? absCosTheta(wi) * kInvPi : 0.0f;
+}
 
 std::optional<BsdfSample> lambertianSample(const Lobe& lobe, const Vec3& wo, Vec2 u2) {
   if (!(std::fabs(wo.z) > 0.0f)) return std::nullopt;  // also rejects NaN
