@@ -87,6 +87,30 @@ std::vector<SampleRecord> spectralRecords(size_t n) {
 
 const std::string kBenchFile = (std::filesystem::temp_directory_path() / "tex_bench.samples").string();
 
+// The path tracer's sampler access: 30 Sobol coordinates (dimensions 2-31) of each of 4096
+// consecutive indices, through Sampler::get (arg 0) or one IndexSampler per index (arg 1).
+// Items are coordinates.
+void BM_SobolCoordinatesPerIndex(benchmark::State& state) {
+  const sampling::Sampler sampler(sampling::SamplerKind::Sobol, 3);
+  const bool perIndexView = state.range(0) == 1;
+  uint64_t first = 0;
+  for (auto _ : state) {
+    float acc = 0.0f;
+    for (uint64_t index = first; index < first + 4096; ++index) {
+      if (perIndexView) {
+        const sampling::IndexSampler samples(sampler, index);
+        for (int d = 2; d < 32; ++d) acc += samples.get(d);
+      } else {
+        for (int d = 2; d < 32; ++d) acc += sampler.get(index, d);
+      }
+    }
+    benchmark::DoNotOptimize(acc);
+    first += 4096;
+  }
+  state.SetItemsProcessed(int64_t(state.iterations()) * 4096 * 30);
+}
+BENCHMARK(BM_SobolCoordinatesPerIndex)->Arg(0)->Arg(1);
+
 void writeFile(const std::vector<SampleRecord>& records, SampleCompression compression) {
   SampleFileWriter writer;
   SampleFileHeader header;

@@ -97,13 +97,13 @@ SampleRecord PathTracer::record(uint64_t index) const {
   rec.filmY = film.y;
   rec.weight = 1.0f;
   rec.technique = kTechniqueCamera;
-  Wavelengths lambda =
-      color::sampleWavelengthGroup(sampler_.get(index, sampling::kWavelengthDimension), settings_.wavelengths);
+  const sampling::IndexSampler samples(sampler_, index);
+  Wavelengths lambda = color::sampleWavelengthGroup(samples.get(sampling::kWavelengthDimension), settings_.wavelengths);
   rec.wavelengthCount = uint8_t(lambda.count);
-  const Vec2 uLens(sampler_.get(index, kLensDimension), sampler_.get(index, kLensDimension + 1));
+  const Vec2 uLens(samples.get(kLensDimension), samples.get(kLensDimension + 1));
   const CameraRay cr = scene_.camera().generateRay(film, uLens);
   Spectrum L;
-  if (cr.weight > 0.0f) L = radiance(index, cr.ray, PixelFootprint{film, uLens}, lambda, counters) * cr.weight;
+  if (cr.weight > 0.0f) L = radiance(samples, cr.ray, PixelFootprint{film, uLens}, lambda, counters) * cr.weight;
   bool finite = true;
   for (int j = 0; j < lambda.count; ++j) {
     rec.lambdaNm[j] = lambda.lambdaNm[j];
@@ -118,7 +118,7 @@ SampleRecord PathTracer::record(uint64_t index) const {
   return rec;
 }
 
-Spectrum PathTracer::radiance(uint64_t index, const Ray& primary, const PixelFootprint& footprint, Wavelengths& lambda,
+Spectrum PathTracer::radiance(const sampling::IndexSampler& samples, const Ray& primary, const PixelFootprint& footprint, Wavelengths& lambda,
                               PathCounters& counters) const {
   const SceneGeometry& geometry = scene_.geometry();
   const MaterialSystem& materials = scene_.materials();
@@ -218,10 +218,10 @@ Spectrum PathTracer::radiance(uint64_t index, const Ray& primary, const PixelFoo
     const int dim = kFirstBounceDimension + depth * kDimensionsPerBounce;
     // Next-event estimation: one light chosen by power.
     if (settings_.nextEventEstimation && bsdf.hasNonSpecular() && lightSampler.size() > 0) {
-      const auto choice = lightSampler.sample(sampler_.get(index, dim));
+      const auto choice = lightSampler.sample(samples.get(dim));
       if (choice) {
         const Light& light = *lights[size_t(choice->first)];
-        const Vec2 u(sampler_.get(index, dim + 1), sampler_.get(index, dim + 2));
+        const Vec2 u(samples.get(dim + 1), samples.get(dim + 2));
         // The light's radiance (an area light's material emission) only once the sample is
         // known to be visible: most of its cost is spent on samples that are not.
         const std::optional<LightLiSample> ls = light.sampleLiDeferred(hit.p, u, lambda);
@@ -245,8 +245,8 @@ Spectrum PathTracer::radiance(uint64_t index, const Ray& primary, const PixelFoo
     }
 
     // Continue the path by sampling the BSDF.
-    const Vec2 u(sampler_.get(index, dim + 4), sampler_.get(index, dim + 5));
-    const std::optional<BsdfSample> bs = bsdf.sample(wo, sampler_.get(index, dim + 3), u, TransportMode::Radiance);
+    const Vec2 u(samples.get(dim + 4), samples.get(dim + 5));
+    const std::optional<BsdfSample> bs = bsdf.sample(wo, samples.get(dim + 3), u, TransportMode::Radiance);
     if (!bs || !(bs->pdfW > 0.0f) || bs->f.isBlack()) break;
     beta *= bs->f * (absDot(bs->wi, hit.ns) / bs->pdfW);
     prevPdfW = bs->pdfW;
@@ -275,7 +275,7 @@ Spectrum PathTracer::radiance(uint64_t index, const Ray& primary, const PixelFoo
     }
     if (depth + 1 >= settings_.rouletteDepth) {
       const float survive = std::min(1.0f, beta.maxValue() * spectralWeight);
-      if (sampler_.get(index, dim + 6) >= survive) break;
+      if (samples.get(dim + 6) >= survive) break;
       beta = beta / survive;
     }
   }

@@ -66,7 +66,7 @@ class PathTracer {
     sampling::FilmPosition film;
     Vec2 uLens{0.0f};
   };
-  Spectrum radiance(uint64_t index, const Ray& primary, const PixelFootprint& footprint, Wavelengths& lambda,
+  Spectrum radiance(const sampling::IndexSampler& samples, const Ray& primary, const PixelFootprint& footprint, Wavelengths& lambda,
                     PathCounters& counters) const;
 
   const RenderScene& scene_;

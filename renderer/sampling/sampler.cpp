@@ -1,5 +1,7 @@
 #include "renderer/sampling/sampler.h"
 
+#include <cstring>
+
 #include "renderer/sampling/hash.h"
 #include "renderer/sampling/pcg.h"
 #include "renderer/sampling/sobol.h"
@@ -12,6 +14,39 @@ Sampler::Sampler(SamplerKind kind, uint64_t seed) : kind_(kind), seed_(seed) {
   auto seeds = std::make_shared<std::array<uint32_t, kSobolDimensions>>();
   for (int d = 0; d < kSobolDimensions; ++d) (*seeds)[size_t(d)] = sobolScrambleSeed(seed, d, 0);
   scrambleSeeds_ = std::move(seeds);
+}
+
+namespace {
+
+// tables[d][1][b1] ^ tables[d][2][b2] ^ tables[d][3][b3] for every fast dimension d, for the
+// calling thread's latest block of 256 indices (indexHigh = index >> 8, below 2^24).
+const uint32_t* highBytesXorOfBlock(uint32_t indexHigh) {
+  struct Block {
+    uint32_t indexHigh = ~0u;  // no block yet (index >> 8 of a 32-bit index is below 2^24)
+    uint32_t xors[kSobolByteTableDimensions] = {};
+  };
+  thread_local Block block;
+  if (block.indexHigh != indexHigh) {
+    const uint32_t b1 = indexHigh & 0xffu, b2 = (indexHigh >> 8) & 0xffu, b3 = indexHigh >> 16;
+    for (int d = 0; d < kSobolByteTableDimensions; ++d) {
+      const uint32_t(*t)[256] = kSobolReversedByteTables[d];
+      block.xors[d] = t[1][b1] ^ t[2][b2] ^ t[3][b3];
+    }
+    block.indexHigh = indexHigh;
+  }
+  return block.xors;
+}
+
+}  // namespace
+
+IndexSampler::IndexSampler(const Sampler& sampler, uint64_t index)
+    : sampler_(sampler),
+      index_(index),
+      fast_(sampler.kind_ == SamplerKind::Sobol && (index >> 32) == 0),
+      lowByte_(uint32_t(index) & 0xffu),
+      seeds_(sampler.scrambleSeeds_->data()) {
+  // Uninitialised otherwise: get() then never reads it.
+  if (fast_) std::memcpy(highBytesXor_, highBytesXorOfBlock(uint32_t(index) >> 8), sizeof highBytesXor_);
 }
 
 uint32_t Sampler::getBits(uint64_t index, int dimension) const {

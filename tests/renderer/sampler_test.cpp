@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <random>
 #include <thread>
 #include <vector>
@@ -122,6 +123,25 @@ TEST(Sobol, GetMatchesTheScrambledDefinition) {
     }
   }
   for (uint32_t x : {0u, 1u, 0x800000u, 0xffffffu, 0x12345678u, 0xffffffffu}) EXPECT_EQ(reverseLow24(x), reverseBits32(x) >> 8);
+}
+
+TEST(Samplers, IndexSamplerGivesSamplerGetBitForBit) {
+  // Per-index views interleaved in index orders that cross and revisit blocks of 256 indices
+  // (the per-thread XOR of the high bytes is refreshed and reused), for both samplers, every
+  // fast dimension and some past it, and indices past 2^32 (the general path).
+  for (const SamplerKind kind : {SamplerKind::Sobol, SamplerKind::Random}) {
+    const Sampler sampler(kind, 17);
+    std::mt19937_64 rng(5);
+    std::vector<uint64_t> indices = {0, 1, 255, 256, 257, 65535, 65536, 0xffffffffull, 0x100000000ull, 0x1234567890ull};
+    for (int i = 0; i < 2000; ++i) indices.push_back(rng() % (uint64_t(1) << (i % 2 ? 12 : 32)));
+    for (const uint64_t index : indices) {
+      const IndexSampler samples(sampler, index);
+      for (int d = 0; d < kSobolByteTableDimensions + 8; ++d) {
+        const float a = samples.get(d), b = sampler.get(index, d);
+        ASSERT_EQ(std::bit_cast<uint32_t>(a), std::bit_cast<uint32_t>(b)) << "index " << index << " dimension " << d;
+      }
+    }
+  }
 }
 
 TEST(Sobol, EveryDimensionIsStratifiedInOneDimension) {
