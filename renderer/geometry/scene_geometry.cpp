@@ -29,7 +29,20 @@ Vec3 transformPoint(const Mat4& m, const Vec3& p) { return Vec3(m * Vec4(p, 1.0f
 struct TriangleFrame {
   Vec3 ng{0.0f};
   Vec3 dpdu{0.0f}, dpdv{0.0f};  // 0 without uv or when it is degenerate
+  // The shading normal when it is the same over the whole triangle (world, unit; baked
+  // instances): its three vertex normals are equal, as on flat-shaded meshes whose vertices
+  // are split per face. Interpolating them would only add rounding and cost a hit a square
+  // root and a division. Without vertex normals it is ng. 0: it varies (interpolate).
+  Vec3 flatNs{0.0f};
 };
+
+// The shading normal of a normal in object space (ng when it does not transform to a finite,
+// non-zero vector).
+Vec3 worldShadingNormal(const glm::mat3& normalToWorld, const Vec3& nObject, const Vec3& ng) {
+  const Vec3 nWorld = normalToWorld * nObject;
+  const float nl = glm::length(nWorld);
+  return nl > 0.0f && std::isfinite(nl) ? nWorld / nl : ng;
+}
 TriangleFrame triangleFrame(const Vec3 p[3], const Vec2* uv /* 3 or null */, bool flipWinding) {
   TriangleFrame f;
   const Vec3 e1 = p[1] - p[0], e2 = p[2] - p[0];
@@ -211,7 +224,15 @@ std::unique_ptr<SceneGeometry> SceneGeometry::build(const SceneDescription& scen
           p[k] = inst.worldPositions[v];
           if (!prim.uv0.empty()) uv[k] = prim.uv0[v];
         }
-        inst.triangleFrames[t] = triangleFrame(p, prim.uv0.empty() ? nullptr : uv, inst.flipWinding);
+        TriangleFrame& frame = inst.triangleFrames[t];
+        frame = triangleFrame(p, prim.uv0.empty() ? nullptr : uv, inst.flipWinding);
+        if (prim.normals.empty()) {
+          frame.flatNs = frame.ng;
+        } else {
+          const Vec3& n0 = prim.normals[prim.indices[t * 3]];
+          if (n0 == prim.normals[prim.indices[t * 3 + 1]] && n0 == prim.normals[prim.indices[t * 3 + 2]])
+            frame.flatNs = worldShadingNormal(inst.normalToWorld, n0, frame.ng);
+        }
       }
       RTCGeometry g = im.makeTriangles(inst.worldPositions, prim.indices);
       if (!g) break;
@@ -323,12 +344,13 @@ void SceneGeometry::fillHit(int instance, uint32_t triangle, float b1, float b2,
                                   ? triangleFrame(p, prim.uv0.empty() ? nullptr : uv, inst.flipWinding)
                                   : inst.triangleFrames[triangle];
   hit.ng = frame.ng;
-  hit.ns = hit.ng;
-  if (!prim.normals.empty()) {
+  if (frame.flatNs != Vec3(0.0f)) {
+    hit.ns = frame.flatNs;
+  } else if (!prim.normals.empty()) {
     const Vec3 nObject = prim.normals[vi[0]] * b0 + prim.normals[vi[1]] * b1 + prim.normals[vi[2]] * b2;
-    const Vec3 nWorld = inst.normalToWorld * nObject;
-    const float nl = glm::length(nWorld);
-    if (nl > 0.0f && std::isfinite(nl)) hit.ns = nWorld / nl;
+    hit.ns = worldShadingNormal(inst.normalToWorld, nObject, hit.ng);
+  } else {
+    hit.ns = hit.ng;
   }
   hit.tangent = Vec4(0.0f);
   if (!prim.tangents.empty()) {

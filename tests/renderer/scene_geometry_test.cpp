@@ -78,5 +78,78 @@ TEST(SceneGeometry, HitNormalAndUvDerivativesAreTheTrianglesBitForBit) {
   EXPECT_GT(hits[1], 300);
 }
 
+
+// Shading normals: a triangle whose three vertex normals are equal has that normal (in world
+// space, unit) everywhere, exactly when baked (precomputed per triangle); one with different
+// vertex normals interpolates them at the hit's barycentrics; both under a non-uniform scale.
+TEST(SceneGeometry, ShadingNormalsAreFlatOrInterpolatedPerTriangle) {
+  SceneDescription scene;
+  for (uint64_t seed : {3u, 4u}) {
+    MeshPrimitive m = randomSoup(seed, 40);
+    for (int t = 0; t < 40; ++t) {
+      const Vec3 flat = glm::normalize(Vec3(0.3f, -0.5f, 0.8f) + Vec3(sampling::randomUniform(seed, uint64_t(t), 7)));
+      for (int k = 0; k < 3; ++k) {
+        const Vec3 varying = glm::normalize(Vec3(sampling::randomUniform(seed, uint64_t(t * 3 + k), 5) - 0.5f,
+                                                 sampling::randomUniform(seed, uint64_t(t * 3 + k), 6) - 0.5f, 1.0f));
+        m.normals.push_back(t % 2 == 0 ? flat : varying);
+      }
+    }
+    scene.primitives.push_back(m);
+  }
+  Mat4 stretched(1.0f);
+  stretched[0][0] = 1.0f;
+  stretched[1][1] = 3.0f;
+  stretched[2][2] = 0.5f;
+  Mat4 baked = stretched, instanced = stretched, instancedFar = stretched;
+  baked[3] = Vec4(0.0f, 0.0f, -4.0f, 1.0f);
+  instanced[3] = Vec4(0.0f, 0.0f, 4.0f, 1.0f);
+  instancedFar[3] = Vec4(100.0f, 0.0f, 0.0f, 1.0f);
+  scene.instances.push_back(MeshInstance{0, baked, "baked"});
+  scene.instances.push_back(MeshInstance{1, instanced, "instanced"});
+  scene.instances.push_back(MeshInstance{1, instancedFar, "instanced elsewhere"});
+  std::string error;
+  const auto geometry = SceneGeometry::build(scene, error);
+  ASSERT_TRUE(geometry) << error;
+  const glm::mat3 normalToWorld = glm::transpose(glm::inverse(glm::mat3(stretched)));
+
+  int flatHits = 0, smoothHits = 0;
+  for (uint64_t i = 0; i < 4000; ++i) {
+    Ray ray;
+    const float z = (i % 2 ? 4.0f : -4.0f) + 0.5f * sampling::randomUniform(11, i, 0) - 0.25f;
+    ray.origin = Vec3(-10.0f, 6.0f * sampling::randomUniform(11, i, 1) - 3.0f, z);
+    ray.direction = Vec3(1.0f, 0.0f, 0.0f);
+    ray.tMax = 15.0f;
+    SurfaceHit hit;
+    if (!geometry->intersect(ray, hit)) continue;
+    const MeshPrimitive& prim = scene.primitives[size_t(hit.primitive)];
+    const uint32_t* vi = &prim.indices[size_t(hit.triangle) * 3];
+    EXPECT_NEAR(glm::length(hit.ns), 1.0f, 1e-6f);
+    if (hit.triangle % 2 == 0) {
+      ++flatHits;
+      const Vec3 w = normalToWorld * prim.normals[vi[0]];
+      const Vec3 expected = w / glm::length(w);
+      if (hit.instance == 0)
+        EXPECT_TRUE(sameBits(hit.ns, expected)) << "triangle " << hit.triangle;
+      else
+        EXPECT_LT(glm::length(hit.ns - expected), 1e-6f);
+    } else {
+      ++smoothHits;
+      // Barycentrics from the hit point, then the interpolated normal.
+      Vec3 p[3];
+      Vec2 uv[3];
+      Vec3 ng;
+      geometry->triangleWorld(hit.instance, hit.triangle, p, uv, ng);
+      const Vec3 e1 = p[1] - p[0], e2 = p[2] - p[0], d = hit.p - p[0];
+      const float a00 = dot3(e1, e1), a01 = dot3(e1, e2), a11 = dot3(e2, e2);
+      const float det = a00 * a11 - a01 * a01;
+      const float b1 = (a11 * dot3(e1, d) - a01 * dot3(e2, d)) / det, b2 = (a00 * dot3(e2, d) - a01 * dot3(e1, d)) / det;
+      const Vec3 n = prim.normals[vi[0]] * (1.0f - b1 - b2) + prim.normals[vi[1]] * b1 + prim.normals[vi[2]] * b2;
+      EXPECT_LT(glm::length(hit.ns - glm::normalize(normalToWorld * n)), 2e-3f) << "triangle " << hit.triangle;
+    }
+  }
+  EXPECT_GT(flatHits, 300);
+  EXPECT_GT(smoothHits, 300);
+}
+
 }  // namespace
 }  // namespace tex::render
