@@ -170,7 +170,9 @@ Spectrum PathTracer::radiance(const sampling::IndexSampler& samples, const Ray& 
       break;
     }
     ShadingPoint sp = RenderScene::shadingPoint(hit);
-    if (depth == 0 && settings_.filmWidth > 0 && settings_.filmHeight > 0) {
+    const int material = materials.materialOfPrimitive(hit.primitive);
+    // The footprint costs two more camera rays: only for materials that can read it.
+    if (depth == 0 && settings_.filmWidth > 0 && settings_.filmHeight > 0 && materials.readsPixelFootprint(material)) {
       const sampling::FilmPosition f = footprint.film;
       const CameraRay rx = scene_.camera().generateRay({f.x + 1.0f / float(settings_.filmWidth), f.y}, footprint.uLens);
       const CameraRay ry = scene_.camera().generateRay({f.x, f.y + 1.0f / float(settings_.filmHeight)}, footprint.uLens);
@@ -179,7 +181,6 @@ Spectrum PathTracer::radiance(const sampling::IndexSampler& samples, const Ray& 
     const Vec3 wo = -ray.direction;
     Bsdf bsdf(Frame::fromNormalTangent(hit.ns, hit.dpdu), hit.ng);
     Spectrum Le;
-    const int material = materials.materialOfPrimitive(hit.primitive);
     if (!materials.shade(material, sp, lambda, bsdf, Le)) ++counters.materialFailures;
     // A ray that reaches a surface from its back travelled inside that object: absorb along
     // the segment (closed, non-nested volumes; KHR_materials_volume).

@@ -217,6 +217,14 @@ int MaterialSystem::materialOfPrimitive(int primitive) const {
                                                                               : int(impl_->scene->materials.size());
 }
 
+bool MaterialSystem::readsPixelFootprint(int material) const {
+  const Impl& im = *impl_;
+  const int s = im.slot(material);
+  const int binding = im.bindingOfMaterial[size_t(s)];
+  if (binding >= 0) return !im.compiled.bindings[size_t(binding)].hitIndependent;
+  return im.gltf(s) != nullptr;
+}
+
 float MaterialSystem::averageEmission(int material) const { return impl_->averageEmission[size_t(impl_->slot(material))]; }
 
 }  // namespace tex::render

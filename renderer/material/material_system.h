@@ -56,6 +56,11 @@ class MaterialSystem {
   // Emitted radiance only (area lights).
   Spectrum emission(int material, const ShadingPoint& point, const Wavelengths& lambda) const;
   bool isEmissive(int material) const;
+  // Whether shading `material` may read the pixel footprint (ShadingPoint's dpdx ... duvdy),
+  // so that an integrator computes it only for those: false for a .tex material whose closure
+  // tree provably ignores the Hit and for the default grey; true otherwise (glTF materials
+  // filter their textures with it).
+  bool readsPixelFootprint(int material) const;
   bool emitsBothSides(int material) const;
   // Beer-Lambert absorption inside a closed object of this material (KHR_materials_volume:
   // transmittance attenuationColor^(d / attenuationDistance)): the absorption coefficient per
