@@ -33,7 +33,8 @@ Spectrum paramSpectrum(compiler::ClosureParam kind, const float* params, const W
 }
 
 struct Walker {
-  const compiler::ClosureArena& arena;
+  const compiler::ClosureNode* nodes;
+  int32_t nodeCount;
   const Wavelengths& lambda;
   Bsdf* bsdf;  // null: only the emission is wanted (area lights), lobes are skipped
   Spectrum& emission;
@@ -46,8 +47,8 @@ struct Walker {
   const Spectrum* sheenColour = nullptr;
   float sheenAlpha = 0;
 
-  Walker(const compiler::ClosureArena& a, const Wavelengths& l, Bsdf* b, Spectrum& e)
-      : arena(a), lambda(l), bsdf(b), emission(e) {}
+  Walker(const compiler::ClosureNode* n, int32_t count, const Wavelengths& l, Bsdf* b, Spectrum& e)
+      : nodes(n), nodeCount(count), lambda(l), bsdf(b), emission(e) {}
 
   // By reference: a by-value Lobe was copied once more through the stack, its 16-byte loads
   // stalling on the byte and float stores that had just built it.
@@ -93,11 +94,11 @@ struct Walker {
   }
 
   void walk(int32_t index, const Spectrum& weight, int depth) {
-    if (index < 0 || index >= arena.count || depth > kArenaCapacity) {
+    if (index < 0 || index >= nodeCount || depth > kArenaCapacity) {
       result.ok = false;
       return;
     }
-    const compiler::ClosureNode& node = arena.nodes[index];
+    const compiler::ClosureNode& node = nodes[index];
     if (underSheen && bsdf && !allowedUnderSheen(node.kind)) {
       result.ok = false;  // other bases under a sheen are not supported yet
       return;
@@ -192,10 +193,10 @@ struct Walker {
           return;
         }
         const int32_t c = node.a;
-        if (c >= 0 && c < arena.count && arena.nodes[c].kind == compiler::ClosureKind::Sheen) {
+        if (c >= 0 && c < nodeCount && nodes[c].kind == compiler::ClosureKind::Sheen) {
           // A sheen over Lambertian bases: the sheen lobe, and the bases scaled by what it
           // does not reflect (LambertianUnderSheen, sheen_lobe.h). Not nested.
-          const compiler::ClosureNode& sheenNode = arena.nodes[c];
+          const compiler::ClosureNode& sheenNode = nodes[c];
           walk(c, weight, depth + 1);
           underSheen = true;
           Spectrum colour = sheenReflectance(sheenNode);
@@ -209,14 +210,14 @@ struct Walker {
         }
         // The coat must be a dielectric interface (smooth or rough); the base's lobes are
         // attenuated by its Fresnel transmission (Bsdf::setCoat, docs/layering.md).
-        const bool dielectricCoat = c >= 0 && c < arena.count &&
-                                    (arena.nodes[c].kind == compiler::ClosureKind::Dielectric ||
-                                     arena.nodes[c].kind == compiler::ClosureKind::GlossyDielectric);
+        const bool dielectricCoat = c >= 0 && c < nodeCount &&
+                                    (nodes[c].kind == compiler::ClosureKind::Dielectric ||
+                                     nodes[c].kind == compiler::ClosureKind::GlossyDielectric);
         if (!dielectricCoat || underCoat) {
           result.ok = false;  // coats of other kinds, or nested coats, are not supported yet
           return;
         }
-        const compiler::ClosureNode& coatNode = arena.nodes[c];
+        const compiler::ClosureNode& coatNode = nodes[c];
         Lobe coat;
         // A glossy-model coat is layered as the GGX coat of matching width (alpha =
         // sqrt(2 / (n + 2)), the usual Phong-to-Beckmann/GGX correspondence): the layering's
@@ -259,17 +260,15 @@ struct Walker {
 
 }  // namespace
 
-ClosureEvaluation evaluateEntry(compiler::EntryFn entry, const float* extraArgs, int extraWords, const ShadingPoint& point,
-                                const Wavelengths& lambda, Bsdf* bsdf, Spectrum& emission) {
-  ClosureEvaluation result;
+namespace {
+
+// Calls a compiled entry into `arena` (as evaluateEntry): the root, or -1 when the arguments
+// do not fit, the arena overflowed or the entry built no material.
+int32_t callEntry(compiler::EntryFn entry, const float* extraArgs, int extraWords, const ShadingPoint& point,
+                  const Wavelengths& lambda, compiler::ClosureArena& arena) {
   constexpr int kHitWords = int(sizeof(compiler::HitAbi) / sizeof(float));
   constexpr int kMaxExtraWords = kMaxSpectrumArgs * compiler::kMaxWavelengths;
-  if (extraWords < 0 || extraWords > kMaxExtraWords) {
-    result.ok = false;
-    return result;
-  }
-  thread_local std::array<compiler::ClosureNode, kArenaCapacity> nodes;
-  compiler::ClosureArena arena{nodes.data(), kArenaCapacity, 0, 0};
+  if (extraWords < 0 || extraWords > kMaxExtraWords) return -1;
   compiler::ShadingContext ctx{};
   for (int i = 0; i < lambda.count; ++i) ctx.lambdaNm[i] = lambda.lambdaNm[i];
   ctx.wavelengthCount = lambda.count;
@@ -291,28 +290,74 @@ ClosureEvaluation evaluateEntry(compiler::EntryFn entry, const float* extraArgs,
   std::copy(extraArgs, extraArgs + extraWords, args + kHitWords);
   int32_t root = -1;
   entry(args, &root, &ctx);
-  if (arena.overflow || root < 0) {
-    result.ok = false;
-    return result;
-  }
-  Walker walker(arena, lambda, bsdf, emission);
+  return arena.overflow ? -1 : root;
+}
+
+ClosureEvaluation walkTree(const compiler::ClosureNode* nodes, int32_t count, int32_t root, const Wavelengths& lambda,
+                           Bsdf* bsdf, Spectrum& emission) {
+  Walker walker(nodes, count, lambda, bsdf, emission);
   walker.walk(root, Spectrum(1.0f), 0);
   return walker.result;
 }
 
-ClosureEvaluation evaluateBinding(const CompiledBinding& binding, const ShadingPoint& point, const Wavelengths& lambda,
-                                  Bsdf* bsdf, Spectrum& emission) {
-  if (binding.spectrumArgs.size() > size_t(kMaxSpectrumArgs)) {
-    ClosureEvaluation failed;
-    failed.ok = false;
-    return failed;
-  }
-  float extra[kMaxSpectrumArgs * compiler::kMaxWavelengths];
+// The binding's Spectrum arguments at these wavelengths, packed lane-count words each.
+bool spectrumArguments(const CompiledBinding& binding, const Wavelengths& lambda, float* extra) {
+  if (binding.spectrumArgs.size() > size_t(kMaxSpectrumArgs)) return false;
   for (size_t a = 0; a < binding.spectrumArgs.size(); ++a) {
     const Spectrum s = binding.spectrumArgs[a].sample(lambda);
     for (int i = 0; i < lambda.count; ++i) extra[a * size_t(lambda.count) + size_t(i)] = s.v[i];
   }
+  return true;
+}
+
+thread_local std::array<compiler::ClosureNode, kArenaCapacity> tArenaNodes;
+
+}  // namespace
+
+ClosureEvaluation evaluateEntry(compiler::EntryFn entry, const float* extraArgs, int extraWords, const ShadingPoint& point,
+                                const Wavelengths& lambda, Bsdf* bsdf, Spectrum& emission) {
+  compiler::ClosureArena arena{tArenaNodes.data(), kArenaCapacity, 0, 0};
+  const int32_t root = callEntry(entry, extraArgs, extraWords, point, lambda, arena);
+  if (root < 0) {
+    ClosureEvaluation failed;
+    failed.ok = false;
+    return failed;
+  }
+  return walkTree(arena.nodes, arena.count, root, lambda, bsdf, emission);
+}
+
+ClosureEvaluation evaluateBinding(const CompiledBinding& binding, const ShadingPoint& point, const Wavelengths& lambda,
+                                  Bsdf* bsdf, Spectrum& emission) {
+  float extra[kMaxSpectrumArgs * compiler::kMaxWavelengths];
+  if (!spectrumArguments(binding, lambda, extra)) {
+    ClosureEvaluation failed;
+    failed.ok = false;
+    return failed;
+  }
   return evaluateEntry(binding.entry, extra, int(binding.spectrumArgs.size()) * lambda.count, point, lambda, bsdf, emission);
+}
+
+bool captureConstantClosure(const CompiledBinding& binding, const ShadingPoint& point, const Wavelengths& lambda,
+                            ConstantClosure& tree) {
+  tree = ConstantClosure();
+  if (!binding.hitIndependent) return false;
+  float extra[kMaxSpectrumArgs * compiler::kMaxWavelengths];
+  if (!spectrumArguments(binding, lambda, extra)) return false;
+  compiler::ClosureArena arena{tArenaNodes.data(), kArenaCapacity, 0, 0};
+  const int32_t root =
+      callEntry(binding.entry, extra, int(binding.spectrumArgs.size()) * lambda.count, point, lambda, arena);
+  if (root < 0) return false;
+  for (int32_t i = 0; i < arena.count; ++i)
+    if (arena.nodes[i].flags & compiler::kClosureVariesWithWavelength) return false;
+  tree.nodes.assign(arena.nodes, arena.nodes + arena.count);
+  tree.root = root;
+  tree.wavelengthCount = lambda.count;
+  return true;
+}
+
+ClosureEvaluation walkConstantClosure(const ConstantClosure& tree, const Wavelengths& lambda, Bsdf* bsdf,
+                                      Spectrum& emission) {
+  return walkTree(tree.nodes.data(), int32_t(tree.nodes.size()), tree.root, lambda, bsdf, emission);
 }
 
 }  // namespace tex::render
