@@ -46,9 +46,25 @@ struct Walker {
   bool underSheen = false;
   const Spectrum* sheenColour = nullptr;
   float sheenAlpha = 0;
+  // A constant tree's colours fitted once, parallel to `nodes` (null: fit at each use).
+  const std::array<FittedColor, 2>* fitted = nullptr;
 
   Walker(const compiler::ClosureNode* n, int32_t count, const Wavelengths& l, Bsdf* b, Spectrum& e)
       : nodes(n), nodeCount(count), lambda(l), bsdf(b), emission(e) {}
+
+  // A node's parameter vector (`second`: params2) as a spectrum for `use`.
+  Spectrum param(const compiler::ClosureNode& node, ParamUse use, bool second = false) const {
+    const compiler::ClosureParam kind = second ? node.param2Kind : node.paramKind;
+    if (fitted && kind == compiler::ClosureParam::Color) {
+      const FittedColor& colour = fitted[&node - nodes][second ? 1 : 0];
+      switch (use) {
+        case ParamUse::Reflectance: return reflectanceSpectrum(colour.reflectance, lambda);
+        case ParamUse::Illuminant: return illuminantSpectrum(colour.unbounded, lambda);
+        case ParamUse::Unbounded: return unboundedSpectrum(colour.unbounded, lambda);
+      }
+    }
+    return paramSpectrum(kind, second ? node.params2 : node.params, lambda, use);
+  }
 
   // By reference: a by-value Lobe was copied once more through the stack, its 16-byte loads
   // stalling on the byte and float stores that had just built it.
@@ -61,7 +77,7 @@ struct Walker {
   // An IOR parameter: positive per lane (0 or less would be meaningless: index-matched), and
   // dispersive when the compiler says it depends on the wavelength and it differs in the group.
   void iorLanes(const compiler::ClosureNode& node, Lobe& lobe) const {
-    lobe.a = paramSpectrum(node.paramKind, node.params, lambda, ParamUse::Unbounded);
+    lobe.a = param(node, ParamUse::Unbounded);
     for (int i = 0; i < lambda.count; ++i)
       if (!(lobe.a.v[i] > 0.0f)) lobe.a.v[i] = 1.0f;
     bool differs = false;
@@ -79,7 +95,7 @@ struct Walker {
 
   // The sheen's colour as a reflectance and its alpha (sheen::clampRoughness: [0.01, 1]).
   Spectrum sheenReflectance(const compiler::ClosureNode& node) const {
-    return clampZero(paramSpectrum(node.paramKind, node.params, lambda, ParamUse::Reflectance));
+    return clampZero(param(node, ParamUse::Reflectance));
   }
   static float sheenRoughnessOf(const compiler::ClosureNode& node) {
     return float(sheen::clampRoughness(node.scalars[0]));
@@ -108,7 +124,7 @@ struct Walker {
         if (!bsdf) return;
         Lobe lobe;
         lobe.kind = underSheen ? LobeKind::LambertianUnderSheen : LobeKind::Lambertian;
-        lobe.weight = weight * clampZero(paramSpectrum(node.paramKind, node.params, lambda, ParamUse::Reflectance));
+        lobe.weight = weight * clampZero(param(node, ParamUse::Reflectance));
         if (underSheen) {
           lobe.a = *sheenColour;
           lobe.roughness = sheenAlpha;
@@ -127,7 +143,7 @@ struct Walker {
       }
       case compiler::ClosureKind::Emission:
         result.sawEmission = true;
-        emission += weight * clampZero(paramSpectrum(node.paramKind, node.params, lambda, ParamUse::Illuminant));
+        emission += weight * clampZero(param(node, ParamUse::Illuminant));
         return;
       case compiler::ClosureKind::Mix: {
         const float w = std::clamp(node.weight, 0.0f, 1.0f);
@@ -153,8 +169,8 @@ struct Walker {
         lobe.kind = roughness > 0.0f ? LobeKind::RoughConductor : LobeKind::SmoothConductor;
         lobe.roughness = roughness;
         lobe.weight = weight;
-        lobe.a = paramSpectrum(node.paramKind, node.params, lambda, ParamUse::Unbounded);
-        lobe.b = clampZero(paramSpectrum(node.param2Kind, node.params2, lambda, ParamUse::Unbounded));
+        lobe.a = param(node, ParamUse::Unbounded);
+        lobe.b = clampZero(param(node, ParamUse::Unbounded, true));
         addLobe(lobe);
         return;
       }
@@ -173,7 +189,7 @@ struct Walker {
         Lobe lobe;
         lobe.kind = LobeKind::GlossyReflection;
         lobe.exponent = std::max(node.scalars[0], 0.0f);
-        lobe.weight = weight * clampZero(paramSpectrum(node.paramKind, node.params, lambda, ParamUse::Reflectance));
+        lobe.weight = weight * clampZero(param(node, ParamUse::Reflectance));
         addLobe(lobe);
         return;
       }
@@ -242,8 +258,7 @@ struct Walker {
       case compiler::ClosureKind::Scale: {
         const bool bounded = node.paramKind != compiler::ClosureParam::Color ||
                              (node.params[0] <= 1.0f && node.params[1] <= 1.0f && node.params[2] <= 1.0f);
-        const Spectrum w = clampZero(paramSpectrum(node.paramKind, node.params, lambda,
-                                                   bounded ? ParamUse::Reflectance : ParamUse::Unbounded));
+        const Spectrum w = clampZero(param(node, bounded ? ParamUse::Reflectance : ParamUse::Unbounded));
         walk(node.a, weight * w, depth + 1);
         return;
       }
@@ -294,8 +309,9 @@ int32_t callEntry(compiler::EntryFn entry, const float* extraArgs, int extraWord
 }
 
 ClosureEvaluation walkTree(const compiler::ClosureNode* nodes, int32_t count, int32_t root, const Wavelengths& lambda,
-                           Bsdf* bsdf, Spectrum& emission) {
+                           Bsdf* bsdf, Spectrum& emission, const std::array<FittedColor, 2>* fitted = nullptr) {
   Walker walker(nodes, count, lambda, bsdf, emission);
+  walker.fitted = fitted;
   walker.walk(root, Spectrum(1.0f), 0);
   return walker.result;
 }
@@ -350,6 +366,16 @@ bool captureConstantClosure(const CompiledBinding& binding, const ShadingPoint& 
   for (int32_t i = 0; i < arena.count; ++i)
     if (arena.nodes[i].flags & compiler::kClosureVariesWithWavelength) return false;
   tree.nodes.assign(arena.nodes, arena.nodes + arena.count);
+  const auto fit = [](compiler::ClosureParam kind, const float* params) {
+    FittedColor colour;
+    if (kind != compiler::ClosureParam::Color) return colour;
+    const Vec3 rgb(params[0], params[1], params[2]);
+    colour.reflectance = rgbToSigmoid(rgb);
+    colour.unbounded = rgbToUnbounded(rgb);
+    return colour;
+  };
+  for (const compiler::ClosureNode& node : tree.nodes)
+    tree.fitted.push_back({fit(node.paramKind, node.params), fit(node.param2Kind, node.params2)});
   tree.root = root;
   tree.wavelengthCount = lambda.count;
   return true;
@@ -357,7 +383,7 @@ bool captureConstantClosure(const CompiledBinding& binding, const ShadingPoint& 
 
 ClosureEvaluation walkConstantClosure(const ConstantClosure& tree, const Wavelengths& lambda, Bsdf* bsdf,
                                       Spectrum& emission) {
-  return walkTree(tree.nodes.data(), int32_t(tree.nodes.size()), tree.root, lambda, bsdf, emission);
+  return walkTree(tree.nodes.data(), int32_t(tree.nodes.size()), tree.root, lambda, bsdf, emission, tree.fitted.data());
 }
 
 }  // namespace tex::render
