@@ -27,18 +27,19 @@ ClosureEvaluation evaluateEntry(compiler::EntryFn entry, const float* extraArgs,
 ClosureEvaluation evaluateBinding(const CompiledBinding& binding, const ShadingPoint& point, const Wavelengths& lambda,
                                   Bsdf* bsdf, Spectrum& emission);
 
-// The closure tree of a material that depends on neither its Hit (CompiledBinding::
-// hitIndependent) nor the wavelengths: no node carries kClosureVariesWithWavelength, and Floats,
-// Colors and Bools never depend on the wavelength (docs/abi.md, lang/wavelength_dependence.h),
-// so the mix weights, scalars, Color parameters and the tree's shape are the same for every
-// wavelength group. Walking it at a group's wavelengths gives what evaluating the binding there
-// gives, without calling the compiled code (its arguments, the JIT call, the node appends).
 // A Color parameter fitted for each of its uses (rgb_spectrum.h); the walk picks the one it
 // upsamples with.
 struct FittedColor {
   SigmoidPolynomial reflectance;
   RgbUnbounded unbounded;  // as an unbounded quantity and as an illuminant
 };
+
+// The closure tree of a material that depends on neither its Hit (CompiledBinding::
+// hitIndependent) nor the wavelengths: no node carries kClosureVariesWithWavelength, and Floats,
+// Colors and Bools never depend on the wavelength (docs/abi.md, lang/wavelength_dependence.h),
+// so the mix weights, scalars, Color parameters and the tree's shape are the same for every
+// wavelength group. Walking it at a group's wavelengths gives what evaluating the binding there
+// gives, without calling the compiled code (its arguments, the JIT call, the node appends).
 struct ConstantClosure {
   std::vector<compiler::ClosureNode> nodes;
   // Per node, its two parameter vectors' colours (params, params2) fitted once: the walk at

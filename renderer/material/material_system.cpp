@@ -105,6 +105,7 @@ std::unique_ptr<MaterialSystem> MaterialSystem::create(const SceneDescription& s
     ms->report_.compileMs += im.gltfMaterial.compileMs;
   }
   const Wavelengths probe = color::sampleWavelengthGroup(0.5f, options.wavelengths);
+  // Bindings whose tree is the same at every hit and wavelength group: captured once here.
   im.constantClosures.resize(im.compiled.bindings.size());
   for (size_t b = 0; b < im.compiled.bindings.size(); ++b) {
     ShadingPoint point;
