@@ -33,7 +33,8 @@ Spectrum paramSpectrum(compiler::ClosureParam kind, const float* params, const W
 }
 
 struct Walker {
-  const compiler::ClosureArena& arena;
+  const compiler::ClosureNode* nodes;
+  int32_t nodeCount;
   const Wavelengths& lambda;
   Bsdf* bsdf;  // null: only the emission is wanted (area lights), lobes are skipped
   Spectrum& emission;
@@ -45,9 +46,25 @@ struct Walker {
   bool underSheen = false;
   const Spectrum* sheenColour = nullptr;
   float sheenAlpha = 0;
+  // A constant tree's colours fitted once, parallel to `nodes` (null: fit at each use).
+  const std::array<FittedColor, 2>* fitted = nullptr;
 
-  Walker(const compiler::ClosureArena& a, const Wavelengths& l, Bsdf* b, Spectrum& e)
-      : arena(a), lambda(l), bsdf(b), emission(e) {}
+  Walker(const compiler::ClosureNode* n, int32_t count, const Wavelengths& l, Bsdf* b, Spectrum& e)
+      : nodes(n), nodeCount(count), lambda(l), bsdf(b), emission(e) {}
+
+  // A node's parameter vector (`second`: params2) as a spectrum for `use`.
+  Spectrum param(const compiler::ClosureNode& node, ParamUse use, bool second = false) const {
+    const compiler::ClosureParam kind = second ? node.param2Kind : node.paramKind;
+    if (fitted && kind == compiler::ClosureParam::Color) {
+      const FittedColor& colour = fitted[&node - nodes][second ? 1 : 0];
+      switch (use) {
+        case ParamUse::Reflectance: return reflectanceSpectrum(colour.reflectance, lambda);
+        case ParamUse::Illuminant: return illuminantSpectrum(colour.unbounded, lambda);
+        case ParamUse::Unbounded: return unboundedSpectrum(colour.unbounded, lambda);
+      }
+    }
+    return paramSpectrum(kind, second ? node.params2 : node.params, lambda, use);
+  }
 
   // By reference: a by-value Lobe was copied once more through the stack, its 16-byte loads
   // stalling on the byte and float stores that had just built it.
@@ -60,7 +77,7 @@ struct Walker {
   // An IOR parameter: positive per lane (0 or less would be meaningless: index-matched), and
   // dispersive when the compiler says it depends on the wavelength and it differs in the group.
   void iorLanes(const compiler::ClosureNode& node, Lobe& lobe) const {
-    lobe.a = paramSpectrum(node.paramKind, node.params, lambda, ParamUse::Unbounded);
+    lobe.a = param(node, ParamUse::Unbounded);
     for (int i = 0; i < lambda.count; ++i)
       if (!(lobe.a.v[i] > 0.0f)) lobe.a.v[i] = 1.0f;
     bool differs = false;
@@ -78,7 +95,7 @@ struct Walker {
 
   // The sheen's colour as a reflectance and its alpha (sheen::clampRoughness: [0.01, 1]).
   Spectrum sheenReflectance(const compiler::ClosureNode& node) const {
-    return clampZero(paramSpectrum(node.paramKind, node.params, lambda, ParamUse::Reflectance));
+    return clampZero(param(node, ParamUse::Reflectance));
   }
   static float sheenRoughnessOf(const compiler::ClosureNode& node) {
     return float(sheen::clampRoughness(node.scalars[0]));
@@ -93,11 +110,11 @@ struct Walker {
   }
 
   void walk(int32_t index, const Spectrum& weight, int depth) {
-    if (index < 0 || index >= arena.count || depth > kArenaCapacity) {
+    if (index < 0 || index >= nodeCount || depth > kArenaCapacity) {
       result.ok = false;
       return;
     }
-    const compiler::ClosureNode& node = arena.nodes[index];
+    const compiler::ClosureNode& node = nodes[index];
     if (underSheen && bsdf && !allowedUnderSheen(node.kind)) {
       result.ok = false;  // other bases under a sheen are not supported yet
       return;
@@ -107,7 +124,7 @@ struct Walker {
         if (!bsdf) return;
         Lobe lobe;
         lobe.kind = underSheen ? LobeKind::LambertianUnderSheen : LobeKind::Lambertian;
-        lobe.weight = weight * clampZero(paramSpectrum(node.paramKind, node.params, lambda, ParamUse::Reflectance));
+        lobe.weight = weight * clampZero(param(node, ParamUse::Reflectance));
         if (underSheen) {
           lobe.a = *sheenColour;
           lobe.roughness = sheenAlpha;
@@ -126,7 +143,7 @@ struct Walker {
       }
       case compiler::ClosureKind::Emission:
         result.sawEmission = true;
-        emission += weight * clampZero(paramSpectrum(node.paramKind, node.params, lambda, ParamUse::Illuminant));
+        emission += weight * clampZero(param(node, ParamUse::Illuminant));
         return;
       case compiler::ClosureKind::Mix: {
         const float w = std::clamp(node.weight, 0.0f, 1.0f);
@@ -152,8 +169,8 @@ struct Walker {
         lobe.kind = roughness > 0.0f ? LobeKind::RoughConductor : LobeKind::SmoothConductor;
         lobe.roughness = roughness;
         lobe.weight = weight;
-        lobe.a = paramSpectrum(node.paramKind, node.params, lambda, ParamUse::Unbounded);
-        lobe.b = clampZero(paramSpectrum(node.param2Kind, node.params2, lambda, ParamUse::Unbounded));
+        lobe.a = param(node, ParamUse::Unbounded);
+        lobe.b = clampZero(param(node, ParamUse::Unbounded, true));
         addLobe(lobe);
         return;
       }
@@ -172,7 +189,7 @@ struct Walker {
         Lobe lobe;
         lobe.kind = LobeKind::GlossyReflection;
         lobe.exponent = std::max(node.scalars[0], 0.0f);
-        lobe.weight = weight * clampZero(paramSpectrum(node.paramKind, node.params, lambda, ParamUse::Reflectance));
+        lobe.weight = weight * clampZero(param(node, ParamUse::Reflectance));
         addLobe(lobe);
         return;
       }
@@ -192,10 +209,10 @@ struct Walker {
           return;
         }
         const int32_t c = node.a;
-        if (c >= 0 && c < arena.count && arena.nodes[c].kind == compiler::ClosureKind::Sheen) {
+        if (c >= 0 && c < nodeCount && nodes[c].kind == compiler::ClosureKind::Sheen) {
           // A sheen over Lambertian bases: the sheen lobe, and the bases scaled by what it
           // does not reflect (LambertianUnderSheen, sheen_lobe.h). Not nested.
-          const compiler::ClosureNode& sheenNode = arena.nodes[c];
+          const compiler::ClosureNode& sheenNode = nodes[c];
           walk(c, weight, depth + 1);
           underSheen = true;
           Spectrum colour = sheenReflectance(sheenNode);
@@ -209,14 +226,14 @@ struct Walker {
         }
         // The coat must be a dielectric interface (smooth or rough); the base's lobes are
         // attenuated by its Fresnel transmission (Bsdf::setCoat, docs/layering.md).
-        const bool dielectricCoat = c >= 0 && c < arena.count &&
-                                    (arena.nodes[c].kind == compiler::ClosureKind::Dielectric ||
-                                     arena.nodes[c].kind == compiler::ClosureKind::GlossyDielectric);
+        const bool dielectricCoat = c >= 0 && c < nodeCount &&
+                                    (nodes[c].kind == compiler::ClosureKind::Dielectric ||
+                                     nodes[c].kind == compiler::ClosureKind::GlossyDielectric);
         if (!dielectricCoat || underCoat) {
           result.ok = false;  // coats of other kinds, or nested coats, are not supported yet
           return;
         }
-        const compiler::ClosureNode& coatNode = arena.nodes[c];
+        const compiler::ClosureNode& coatNode = nodes[c];
         Lobe coat;
         // A glossy-model coat is layered as the GGX coat of matching width (alpha =
         // sqrt(2 / (n + 2)), the usual Phong-to-Beckmann/GGX correspondence): the layering's
@@ -241,8 +258,7 @@ struct Walker {
       case compiler::ClosureKind::Scale: {
         const bool bounded = node.paramKind != compiler::ClosureParam::Color ||
                              (node.params[0] <= 1.0f && node.params[1] <= 1.0f && node.params[2] <= 1.0f);
-        const Spectrum w = clampZero(paramSpectrum(node.paramKind, node.params, lambda,
-                                                   bounded ? ParamUse::Reflectance : ParamUse::Unbounded));
+        const Spectrum w = clampZero(param(node, bounded ? ParamUse::Reflectance : ParamUse::Unbounded));
         walk(node.a, weight * w, depth + 1);
         return;
       }
@@ -259,17 +275,15 @@ struct Walker {
 
 }  // namespace
 
-ClosureEvaluation evaluateEntry(compiler::EntryFn entry, const float* extraArgs, int extraWords, const ShadingPoint& point,
-                                const Wavelengths& lambda, Bsdf* bsdf, Spectrum& emission) {
-  ClosureEvaluation result;
+namespace {
+
+// Calls a compiled entry into `arena` (as evaluateEntry): the root, or -1 when the arguments
+// do not fit, the arena overflowed or the entry built no material.
+int32_t callEntry(compiler::EntryFn entry, const float* extraArgs, int extraWords, const ShadingPoint& point,
+                  const Wavelengths& lambda, compiler::ClosureArena& arena) {
   constexpr int kHitWords = int(sizeof(compiler::HitAbi) / sizeof(float));
   constexpr int kMaxExtraWords = kMaxSpectrumArgs * compiler::kMaxWavelengths;
-  if (extraWords < 0 || extraWords > kMaxExtraWords) {
-    result.ok = false;
-    return result;
-  }
-  thread_local std::array<compiler::ClosureNode, kArenaCapacity> nodes;
-  compiler::ClosureArena arena{nodes.data(), kArenaCapacity, 0, 0};
+  if (extraWords < 0 || extraWords > kMaxExtraWords) return -1;
   compiler::ShadingContext ctx{};
   for (int i = 0; i < lambda.count; ++i) ctx.lambdaNm[i] = lambda.lambdaNm[i];
   ctx.wavelengthCount = lambda.count;
@@ -291,28 +305,85 @@ ClosureEvaluation evaluateEntry(compiler::EntryFn entry, const float* extraArgs,
   std::copy(extraArgs, extraArgs + extraWords, args + kHitWords);
   int32_t root = -1;
   entry(args, &root, &ctx);
-  if (arena.overflow || root < 0) {
-    result.ok = false;
-    return result;
-  }
-  Walker walker(arena, lambda, bsdf, emission);
+  return arena.overflow ? -1 : root;
+}
+
+ClosureEvaluation walkTree(const compiler::ClosureNode* nodes, int32_t count, int32_t root, const Wavelengths& lambda,
+                           Bsdf* bsdf, Spectrum& emission, const std::array<FittedColor, 2>* fitted = nullptr) {
+  Walker walker(nodes, count, lambda, bsdf, emission);
+  walker.fitted = fitted;
   walker.walk(root, Spectrum(1.0f), 0);
   return walker.result;
 }
 
-ClosureEvaluation evaluateBinding(const CompiledBinding& binding, const ShadingPoint& point, const Wavelengths& lambda,
-                                  Bsdf* bsdf, Spectrum& emission) {
-  if (binding.spectrumArgs.size() > size_t(kMaxSpectrumArgs)) {
-    ClosureEvaluation failed;
-    failed.ok = false;
-    return failed;
-  }
-  float extra[kMaxSpectrumArgs * compiler::kMaxWavelengths];
+// The binding's Spectrum arguments at these wavelengths, packed lane-count words each.
+bool spectrumArguments(const CompiledBinding& binding, const Wavelengths& lambda, float* extra) {
+  if (binding.spectrumArgs.size() > size_t(kMaxSpectrumArgs)) return false;
   for (size_t a = 0; a < binding.spectrumArgs.size(); ++a) {
     const Spectrum s = binding.spectrumArgs[a].sample(lambda);
     for (int i = 0; i < lambda.count; ++i) extra[a * size_t(lambda.count) + size_t(i)] = s.v[i];
   }
+  return true;
+}
+
+thread_local std::array<compiler::ClosureNode, kArenaCapacity> tArenaNodes;
+
+}  // namespace
+
+ClosureEvaluation evaluateEntry(compiler::EntryFn entry, const float* extraArgs, int extraWords, const ShadingPoint& point,
+                                const Wavelengths& lambda, Bsdf* bsdf, Spectrum& emission) {
+  compiler::ClosureArena arena{tArenaNodes.data(), kArenaCapacity, 0, 0};
+  const int32_t root = callEntry(entry, extraArgs, extraWords, point, lambda, arena);
+  if (root < 0) {
+    ClosureEvaluation failed;
+    failed.ok = false;
+    return failed;
+  }
+  return walkTree(arena.nodes, arena.count, root, lambda, bsdf, emission);
+}
+
+ClosureEvaluation evaluateBinding(const CompiledBinding& binding, const ShadingPoint& point, const Wavelengths& lambda,
+                                  Bsdf* bsdf, Spectrum& emission) {
+  float extra[kMaxSpectrumArgs * compiler::kMaxWavelengths];
+  if (!spectrumArguments(binding, lambda, extra)) {
+    ClosureEvaluation failed;
+    failed.ok = false;
+    return failed;
+  }
   return evaluateEntry(binding.entry, extra, int(binding.spectrumArgs.size()) * lambda.count, point, lambda, bsdf, emission);
+}
+
+bool captureConstantClosure(const CompiledBinding& binding, const ShadingPoint& point, const Wavelengths& lambda,
+                            ConstantClosure& tree) {
+  tree = ConstantClosure();
+  if (!binding.hitIndependent) return false;
+  float extra[kMaxSpectrumArgs * compiler::kMaxWavelengths];
+  if (!spectrumArguments(binding, lambda, extra)) return false;
+  compiler::ClosureArena arena{tArenaNodes.data(), kArenaCapacity, 0, 0};
+  const int32_t root =
+      callEntry(binding.entry, extra, int(binding.spectrumArgs.size()) * lambda.count, point, lambda, arena);
+  if (root < 0) return false;
+  for (int32_t i = 0; i < arena.count; ++i)
+    if (arena.nodes[i].flags & compiler::kClosureVariesWithWavelength) return false;
+  tree.nodes.assign(arena.nodes, arena.nodes + arena.count);
+  const auto fit = [](compiler::ClosureParam kind, const float* params) {
+    FittedColor colour;
+    if (kind != compiler::ClosureParam::Color) return colour;
+    const Vec3 rgb(params[0], params[1], params[2]);
+    colour.reflectance = rgbToSigmoid(rgb);
+    colour.unbounded = rgbToUnbounded(rgb);
+    return colour;
+  };
+  for (const compiler::ClosureNode& node : tree.nodes)
+    tree.fitted.push_back({fit(node.paramKind, node.params), fit(node.param2Kind, node.params2)});
+  tree.root = root;
+  tree.wavelengthCount = lambda.count;
+  return true;
+}
+
+ClosureEvaluation walkConstantClosure(const ConstantClosure& tree, const Wavelengths& lambda, Bsdf* bsdf,
+                                      Spectrum& emission) {
+  return walkTree(tree.nodes.data(), int32_t(tree.nodes.size()), tree.root, lambda, bsdf, emission, tree.fitted.data());
 }
 
 }  // namespace tex::render

@@ -36,6 +36,8 @@ struct MaterialSystem::Impl {
   std::vector<int> slotOfPrimitive;  // per primitive: the slot its hits shade with
   std::vector<uint8_t> emissive;       // per material slot
   std::vector<float> averageEmission;  // per material slot
+  // Per binding: its closure tree when constant (closure_lobes.h), else an empty tree.
+  std::vector<ConstantClosure> constantClosures;
   mutable std::atomic<uint64_t> failures{0};
   uint64_t memoId = newMaterialMemoId();  // this system's key in the per-thread memo
 
@@ -44,6 +46,20 @@ struct MaterialSystem::Impl {
   }
   const GltfMaterial* gltf(int s) const { return size_t(s) < scene->materials.size() ? &scene->materials[size_t(s)] : nullptr; }
 };
+
+namespace {
+
+// Slot s's binding at a point: its constant tree walked at these wavelengths when it has one
+// (the compiled code would build the same tree), else the compiled code called.
+bool evaluate(const MaterialSystem::Impl& im, int s, const ShadingPoint& point, const Wavelengths& lambda, Bsdf* bsdf,
+              Spectrum& emission) {
+  const size_t b = size_t(im.bindingOfMaterial[size_t(s)]);
+  const ConstantClosure& tree = im.constantClosures[b];
+  if (tree.root >= 0 && tree.wavelengthCount == lambda.count) return walkConstantClosure(tree, lambda, bsdf, emission).ok;
+  return evaluateBinding(im.compiled.bindings[b], point, lambda, bsdf, emission).ok;
+}
+
+}  // namespace
 
 MaterialSystem::~MaterialSystem() = default;
 
@@ -88,12 +104,19 @@ std::unique_ptr<MaterialSystem> MaterialSystem::create(const SceneDescription& s
       return nullptr;
     ms->report_.compileMs += im.gltfMaterial.compileMs;
   }
+  const Wavelengths probe = color::sampleWavelengthGroup(0.5f, options.wavelengths);
+  // Bindings whose tree is the same at every hit and wavelength group: captured once here.
+  im.constantClosures.resize(im.compiled.bindings.size());
+  for (size_t b = 0; b < im.compiled.bindings.size(); ++b) {
+    ShadingPoint point;
+    point.ng = point.ns = Vec3(0, 0, 1);
+    captureConstantClosure(im.compiled.bindings[b], point, probe, im.constantClosures[b]);
+  }
   im.emissive.assign(slots, 0);
   im.averageEmission.assign(slots, 0.0f);
   // Probe each material on a 4 x 4 grid of uv (and positions) with a fixed wavelength group to
   // learn whether it emits and roughly how much (light selection by power; a patterned emitter
   // measured at one point could look black there).
-  Wavelengths probe = color::sampleWavelengthGroup(0.5f, options.wavelengths);
   for (size_t s = 0; s < slots; ++s) {
     bool sawEmission = false;
     double sum = 0;
@@ -141,7 +164,7 @@ bool MaterialSystem::shade(int material, const ShadingPoint& point, const Wavele
         return e->ok;
       }
     }
-    const bool ok = evaluateBinding(binding, point, lambda, &bsdf, emission).ok;
+    const bool ok = evaluate(im, s, point, lambda, &bsdf, emission);
     if (!ok) {
       im.failures.fetch_add(1, std::memory_order_relaxed);
       bsdf = Bsdf(bsdf.frame(), bsdf.geometricNormal());
@@ -185,7 +208,7 @@ Spectrum MaterialSystem::emission(int material, const ShadingPoint& point, const
     if (const MaterialMemoEntry* memo = materialMemoFind(im.memoId, s, false, lambda)) return memo->emission;
   }
   Spectrum e;
-  if (!evaluateBinding(binding, point, lambda, nullptr, e).ok) e = Spectrum();
+  if (!evaluate(im, s, point, lambda, nullptr, e)) e = Spectrum();
   if (binding.hitIndependent) materialMemoStore(im.memoId, s, lambda, true, e, nullptr);
   return e;
 }

@@ -158,18 +158,28 @@ Spectrum sigmoidSpectrum(const SigmoidPolynomial& shape, float scale, bool illum
 
 }  // namespace
 
+Spectrum reflectanceSpectrum(const SigmoidPolynomial& shape, const Wavelengths& lambda) {
+  return sigmoidSpectrum(shape, 1.0f, false, lambda);
+}
+
+Spectrum unboundedSpectrum(const RgbUnbounded& fitted, const Wavelengths& lambda) {
+  return sigmoidSpectrum(fitted.shape, fitted.scale, false, lambda);
+}
+
+Spectrum illuminantSpectrum(const RgbUnbounded& fitted, const Wavelengths& lambda) {
+  return sigmoidSpectrum(fitted.shape, fitted.scale, true, lambda);
+}
+
 Spectrum rgbReflectanceSpectrum(const Vec3& rgb, const Wavelengths& lambda) {
-  return sigmoidSpectrum(rgbToSigmoid(rgb), 1.0f, false, lambda);
+  return reflectanceSpectrum(rgbToSigmoid(rgb), lambda);
 }
 
 Spectrum rgbUnboundedSpectrum(const Vec3& rgb, const Wavelengths& lambda) {
-  const RgbUnbounded u = rgbToUnbounded(rgb);
-  return sigmoidSpectrum(u.shape, u.scale, false, lambda);
+  return unboundedSpectrum(rgbToUnbounded(rgb), lambda);
 }
 
 Spectrum rgbIlluminantSpectrum(const Vec3& rgb, const Wavelengths& lambda) {
-  const RgbUnbounded u = rgbToUnbounded(rgb);
-  return sigmoidSpectrum(u.shape, u.scale, true, lambda);
+  return illuminantSpectrum(rgbToUnbounded(rgb), lambda);
 }
 
 float rgbReflectanceAt(const Vec3& rgb, float lambdaNm) { return rgbToSigmoid(rgb)(lambdaNm); }

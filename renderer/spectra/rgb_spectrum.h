@@ -35,6 +35,11 @@ RgbUnbounded rgbToUnbounded(const Vec3& rgb);
 Spectrum rgbReflectanceSpectrum(const Vec3& rgb, const Wavelengths& lambda);
 Spectrum rgbUnboundedSpectrum(const Vec3& rgb, const Wavelengths& lambda);
 Spectrum rgbIlluminantSpectrum(const Vec3& rgb, const Wavelengths& lambda);
+// The same spectra of colours fitted beforehand (rgbToSigmoid, rgbToUnbounded), bit for bit:
+// for a colour upsampled at many wavelength groups, fitted once.
+Spectrum reflectanceSpectrum(const SigmoidPolynomial& shape, const Wavelengths& lambda);
+Spectrum unboundedSpectrum(const RgbUnbounded& fitted, const Wavelengths& lambda);
+Spectrum illuminantSpectrum(const RgbUnbounded& fitted, const Wavelengths& lambda);
 float rgbReflectanceAt(const Vec3& rgb, float lambdaNm);
 float rgbUnboundedAt(const Vec3& rgb, float lambdaNm);
 float rgbIlluminantAt(const Vec3& rgb, float lambdaNm);
