@@ -4,6 +4,7 @@
 // replayed evaluations equal fresh ones bit for bit, per wavelength group and per system.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 
 #include "renderer/material/closure_lobes.h"
@@ -116,6 +117,57 @@ TEST(MaterialMemo, ReplaysEqualFreshEvaluationsPerWavelengthGroup) {
   }
   // The Hit-dependent materials do vary over the points (so a stale replay would be caught).
   EXPECT_GT(dependentDifferences, 20);
+}
+
+bool sameLobeParameters(const Bsdf& a, const Bsdf& b) {
+  if (!sameLobes(a, b)) return false;
+  for (int i = 0; i < a.lobeCount(); ++i)
+    if (!sameBits(a.lobe(i).a, b.lobe(i).a) || !sameBits(a.lobe(i).b, b.lobe(i).b) ||
+        a.lobe(i).etaVaries != b.lobe(i).etaVaries)
+      return false;
+  return true;
+}
+
+TEST(ConstantClosure, CapturedOnlyWithoutHitOrWavelengthAndWalksLikeTheCompiledCode) {
+  // Constant: the Hit-independent materials without wavelength-dependent values, a smooth glass
+  // of constant IOR (a Spectrum splat). Not constant: a spectrum of lambda_nm, a dispersive
+  // glass (Cauchy: its IOR reads the wavelengths), every Hit-dependent material.
+  const std::string file = test::writeTexModule(
+      "constant_mats", std::string(kMaterials) +
+                           "export fn glass(h: Hit) -> Material = dielectric(1.5)\n"
+                           "export fn prism(h: Hit) -> Material = dielectric(1.5 + 4200.0 / (lambda_nm * lambda_nm))\n");
+  std::vector<std::string> entries = allEntries();
+  entries.push_back("glass");
+  entries.push_back("prism");
+  SceneDescription scene;
+  for (const std::string& e : entries) {
+    GltfMaterial m;
+    m.name = e;
+    scene.materials.push_back(m);
+  }
+  test::bindEntriesByMaterialName(scene, file, entries);
+  CompiledBindings compiled;
+  std::string error;
+  ASSERT_TRUE(compileBindings(scene, 4, false, false, compiled, error)) << error;
+  const std::vector<std::string> constant = {"plain", "helper", "folded", "light", "glass"};
+  const Wavelengths probe = color::sampleWavelengthGroup(0.5f, 4);
+  for (const CompiledBinding& binding : compiled.bindings) {
+    ConstantClosure tree;
+    const bool captured = captureConstantClosure(binding, pointAt(0.5f, 0.5f, 0.0f), probe, tree);
+    const std::string entry = binding.name.substr(binding.name.rfind(':') + 1);  // "file:entry"
+    const bool expected = std::find(constant.begin(), constant.end(), entry) != constant.end();
+    EXPECT_EQ(captured, expected) << binding.name;
+    if (!captured) continue;
+    for (const float u : {0.05f, 0.3f, 0.5f, 0.95f}) {
+      const Wavelengths lambda = color::sampleWavelengthGroup(u, 4);
+      Bsdf walked(Frame(), Vec3(0, 0, 1)), compiledBsdf(Frame(), Vec3(0, 0, 1));
+      Spectrum eWalked, eCompiled;
+      ASSERT_TRUE(walkConstantClosure(tree, lambda, &walked, eWalked).ok) << binding.name;
+      ASSERT_TRUE(evaluateBinding(binding, pointAt(u, 0.1f, 0.2f), lambda, &compiledBsdf, eCompiled).ok);
+      EXPECT_TRUE(sameLobeParameters(walked, compiledBsdf)) << binding.name << " u " << u;
+      EXPECT_TRUE(sameBits(eWalked, eCompiled)) << binding.name << " u " << u;
+    }
+  }
 }
 
 TEST(MaterialMemo, SystemsDoNotShareEntries) {
