@@ -98,7 +98,10 @@ FilmAccumulator::FilmAccumulator(const FilmSettings& settings)
 
 void FilmAccumulator::clear() { std::fill(sums_.begin(), sums_.end(), 0); }
 
-FilmAccumulator::Colour FilmAccumulator::colourOf(const SampleRecord& r) const {
+// Inline into addGeneral: returned from a call, the colour came back through the stack, and
+// splat's 8-byte reload of its green and blue spanned their two stores (a store-forwarding
+// stall per record).
+[[gnu::always_inline]] inline FilmAccumulator::Colour FilmAccumulator::colourOf(const SampleRecord& r) const {
   const int n = std::min<int>(r.wavelengthCount, color::kMaxWavelengths);
   const color::Rgb rgb = color::xyzToLinearSrgb(color::xyzFromRadianceOverPdf(r.lambdaNm.data(), r.values.data(), n));
   return {{rgb.r, rgb.g, rgb.b}};
