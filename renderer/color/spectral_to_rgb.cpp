@@ -20,18 +20,6 @@ double d65YIntegral() {
 
 }  // namespace
 
-Xyz xyzFromRadianceOverPdf(const float* lambdaNm, const float* radianceOverPdf, int count) {
-  double x = 0, y = 0, z = 0;
-  for (int j = 0; j < count; ++j) {
-    const Xyz bar = cieXyzBar(lambdaNm[j]);
-    x += double(bar.x) * radianceOverPdf[j];
-    y += double(bar.y) * radianceOverPdf[j];
-    z += double(bar.z) * radianceOverPdf[j];
-  }
-  const double scale = count > 0 ? 1.0 / (double(count) * kCie1931YIntegralNm) : 0.0;
-  return {float(x * scale), float(y * scale), float(z * scale)};
-}
-
 Xyz radianceGroupToXyz(const WavelengthGroup& group, const float* radiance) {
   float weights[kMaxWavelengths];
   for (int j = 0; j < group.count; ++j) {

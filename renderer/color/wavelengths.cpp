@@ -3,7 +3,9 @@
 #include <emmintrin.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstddef>
 
 namespace tex::color {
 
@@ -14,6 +16,15 @@ const double kTanhLow = std::tanh(kA * (kCentreNm - kVisibleLambdaMinNm));   // 
 const double kTanhHigh = std::tanh(kA * (kVisibleLambdaMaxNm - kCentreNm));  // 0.97059
 const double kTanhSpan = kTanhLow + kTanhHigh;                               // 1.82750
 constexpr double kNmPerLog = 0.5 / kA;  // lambda = 538 - log((1 + t) / (1 - t)) / (2 a)
+
+// j / n for a group of n wavelengths, lane j (u_j = frac(u + j / n)): constant-folded, so the
+// same floats as the division, which began every group's chain of dependent operations.
+constexpr auto kLaneOffsets = [] {
+  std::array<std::array<float, kMaxWavelengths>, kMaxWavelengths + 1> offsets{};
+  for (int n = 1; n <= kMaxWavelengths; ++n)
+    for (int j = 0; j < kMaxWavelengths; ++j) offsets[size_t(n)][size_t(j)] = float(j) / float(n);
+  return offsets;
+}();
 
 // Natural logs of four positive normal floats, all at once (a path's four wavelengths took
 // four calls of glibc's double log): Cephes' logf, x = m 2^e with m in [sqrt(1/2), sqrt(2)),
@@ -70,7 +81,6 @@ WavelengthGroup sampleWavelengthGroup(float u, int count) {
   // operations in its order (SSE2 arithmetic and conversions round as the scalar ones do): the
   // ratios stored lane by lane and reloaded as one vector for log4 stalled on store forwarding.
   const __m128 one = _mm_set1_ps(1.0f);
-  const __m128 countF = _mm_set1_ps(float(group.count));
   const __m128 uu = _mm_set1_ps(u);
   const __m128d tanhLow = _mm_set1_pd(kTanhLow);
   const __m128d tanhSpan = _mm_set1_pd(kTanhSpan);
@@ -83,7 +93,7 @@ WavelengthGroup sampleWavelengthGroup(float u, int count) {
   for (int j0 = 0; j0 < group.count; j0 += 4) {
     const __m128i lane = _mm_add_epi32(_mm_set1_epi32(j0), _mm_setr_epi32(0, 1, 2, 3));
     const __m128 used = _mm_castsi128_ps(_mm_cmplt_epi32(lane, _mm_set1_epi32(group.count)));
-    __m128 uj = _mm_add_ps(uu, _mm_div_ps(_mm_cvtepi32_ps(lane), countF));
+    __m128 uj = _mm_add_ps(uu, _mm_loadu_ps(&kLaneOffsets[size_t(group.count)][size_t(j0)]));
     uj = _mm_sub_ps(uj, _mm_and_ps(_mm_cmpge_ps(uj, one), one));
     const __m128d tLow = _mm_sub_pd(tanhLow, _mm_mul_pd(tanhSpan, _mm_cvtps_pd(uj)));
     const __m128d tHigh = _mm_sub_pd(tanhLow, _mm_mul_pd(tanhSpan, _mm_cvtps_pd(_mm_movehl_ps(uj, uj))));

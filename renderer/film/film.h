@@ -96,6 +96,7 @@ class FilmAccumulator {
   Colour colourOf(const SampleRecord& r) const;
   void addGeneral(const SampleRecord& record);
   void addScalarBox(const SampleRecord* records, size_t count);
+  void addColourBox(const SampleRecord* records, size_t count);
   void prefetchFootprint(const SampleRecord& record) const;
   void splat(int px, int py, float a, const Colour& colour, const float* bins);
   void splatScalar(int px, int py, float a, float value);
