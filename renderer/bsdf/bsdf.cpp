@@ -6,6 +6,7 @@
 
 #include "renderer/bsdf/bsdf.h"
 #include "renderer/bsdf/bsdf_constants.h"
+#include "renderer/bsdf/lambertian.h"
 #include "renderer/bsdf/layer.h"
 
 namespace tex::render {
@@ -15,6 +16,15 @@ namespace {
 struct PairCosines {
   float woNs, wiNs, woNg, wiNg;
 };
+
+// Lanes 4-7 all zero (a NaN lane is not).
+bool upperLanesZero(const Spectrum& s) {
+#if defined(__SSE2__)
+  return _mm_movemask_ps(_mm_cmpneq_ps(_mm_load_ps(s.v + 4), _mm_setzero_ps())) == 0;
+#else
+  return s.v[4] == 0.0f && s.v[5] == 0.0f && s.v[6] == 0.0f && s.v[7] == 0.0f;
+#endif
+}
 
 bool degenerate(float cosTheta) { return !(std::fabs(cosTheta) >= kMinCosTheta); }  // also NaN
 
@@ -68,9 +78,14 @@ void Bsdf::copyLobesFrom(const Bsdf& other) {
 
 // Sum of |weight| over all 8 lanes. Lanes past the group's count are zero (spectrum.h), so this
 // is count * (mean over the group): proportional to the mean, without needing the count.
+// A group of 4 wavelengths leaves lanes 4-7 zero, and adding |0| = +0 to the sum (never -0)
+// changes no bit: then the chain of dependent additions stops at lane 4.
 float Bsdf::selectionWeight(const Lobe& l) {
+  static_assert(kLanes == 8);
   float sum = 0.0f;
-  for (int lane = 0; lane < kLanes; ++lane) sum += std::fabs(l.weight.v[lane]);
+  for (int lane = 0; lane < 4; ++lane) sum += std::fabs(l.weight.v[lane]);
+  if (!upperLanesZero(l.weight))
+    for (int lane = 4; lane < kLanes; ++lane) sum += std::fabs(l.weight.v[lane]);
   return std::isfinite(sum) ? sum : 0.0f;
 }
 
@@ -91,10 +106,12 @@ Spectrum Bsdf::localEval(const Vec3& wo, const Vec3& wi, TransportMode mode) con
   Spectrum f, coated;
   for (int i = 0; i < count_; ++i) {
     if (lobeIsSpecular(storage_.lobes[i].kind)) continue;
-    if (hasCoat_ && storage_.lobes[i].underCoat) {
-      coated += lobeEval(storage_.lobes[i], wo, wi, mode);
+    const Lobe& lobe = storage_.lobes[i];
+    const Spectrum fLobe = lobe.kind == LobeKind::Lambertian ? lambertianEval(lobe, wo, wi) : lobeEval(lobe, wo, wi, mode);
+    if (hasCoat_ && lobe.underCoat) {
+      coated += fLobe;
     } else {
-      f += lobeEval(storage_.lobes[i], wo, wi, mode);
+      f += fLobe;
     }
   }
   if (hasCoat_) {
@@ -113,9 +130,13 @@ float Bsdf::localPdf(const Vec3& wo, const Vec3& wi, TransportMode mode, int lan
 float Bsdf::localPdf(const Vec3& wo, const Vec3& wi, TransportMode mode, int lane, const float* weights, float total) const {
   if (!(total > 0.0f)) return 0.0f;
   float pdfW = 0.0f;
-  for (int i = 0; i < count_; ++i)
-    if (weights[i] > 0.0f && !lobeIsSpecular(storage_.lobes[i].kind))
-      pdfW += weights[i] * (lane == 0 ? lobePdf(storage_.lobes[i], wo, wi, mode) : lobePdfForLane(storage_.lobes[i], wo, wi, mode, lane));
+  for (int i = 0; i < count_; ++i) {
+    const Lobe& lobe = storage_.lobes[i];
+    if (weights[i] > 0.0f && !lobeIsSpecular(lobe.kind))
+      pdfW += weights[i] * (lobe.kind == LobeKind::Lambertian ? lambertianPdf(wo, wi)
+                            : lane == 0                      ? lobePdf(lobe, wo, wi, mode)
+                                                             : lobePdfForLane(lobe, wo, wi, mode, lane));
+  }
   if (weights[count_] > 0.0f) pdfW += weights[count_] * coatPdf(coat_, wo, wi);
   return pdfW / total;
 }
@@ -175,9 +196,12 @@ std::optional<BsdfSample> Bsdf::sample(const Vec3& woWorld, float uc, Vec2 u2, T
   // Every return names s, so s is the caller's object and the lobe writes its sample there:
   // a local copy returned at the end was read back in 16-byte pieces over the lobe's narrower
   // stores (a store-forwarding stall).
+  // The Lambertian lobe inline (lambertian.h), the others through lobeSample's dispatch.
   std::optional<BsdfSample> s = chosen < 0  ? std::optional<BsdfSample>()
                                 : coatChosen ? coatSample(coat_, wo, u2)
-                                             : lobeSample(storage_.lobes[chosen], wo, ucLobe, u2, mode);
+                                : storage_.lobes[chosen].kind == LobeKind::Lambertian
+                                    ? lambertianSample(storage_.lobes[chosen], wo, u2)
+                                    : lobeSample(storage_.lobes[chosen], wo, ucLobe, u2, mode);
   if (!s) return s;
   const Vec3 wi = s->wi;
   const Vec3 wiWorld = frame_.toWorld(wi);

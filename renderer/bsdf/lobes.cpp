@@ -6,6 +6,7 @@
 
 #include "renderer/bsdf/bsdf.h"
 #include "renderer/bsdf/glossy_lobe.h"
+#include "renderer/bsdf/lambertian.h"
 #include "renderer/bsdf/microfacet.h"
 #include "renderer/bsdf/sheen_lobe.h"
 #include "renderer/bsdf/bsdf_constants.h"
@@ -13,28 +14,6 @@
 
 namespace tex::render {
 namespace {
-
-// ---- Lambertian: f = weight / pi on wo's side, cosine-weighted sampling.
-
-Spectrum lambertianEval(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
-  return sameHemisphere(wo, wi) ? lobe.weight * kInvPi : Spectrum();
-}
-
-float lambertianPdf(const Vec3& wo, const Vec3& wi) {
-  return sameHemisphere(wo, wi) ? absCosTheta(wi) * kInvPi : 0.0f;
-}
-
-std::optional<BsdfSample> lambertianSample(const Lobe& lobe, const Vec3& wo, Vec2 u2) {
-  if (!(std::fabs(wo.z) > 0.0f)) return std::nullopt;  // also rejects NaN
-  Vec3 wi = sampleCosineHemisphere(u2);
-  if (wo.z < 0.0f) wi.z = -wi.z;  // reflection stays on wo's side (two-sided diffuse)
-  if (wi.z == 0.0f) return std::nullopt;  // the disk's rim: zero density
-  BsdfSample s;
-  s.wi = wi;
-  s.f = lobe.weight * kInvPi;
-  s.pdfW = absCosTheta(wi) * kInvPi;
-  return s;
-}
 
 // ---- Smooth dielectric: Fresnel-weighted choice between mirror reflection and refraction.
 
