@@ -4,6 +4,9 @@
 #pragma once
 #include <algorithm>
 #include <cmath>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "renderer/core/geometry.h"
 
@@ -72,16 +75,23 @@ inline float uniformConePdfW(float cosThetaMax) { return 1.0f / (2.0f * kPi * (1
 
 // Uniform barycentrics on a triangle (b0, b1; b2 = 1 - b0 - b1): area density 1 / area.
 // Heitz 2019's square-to-triangle map (keeps stratification better than the sqrt map).
+// The smaller coordinate is halved and the other loses that half: u.x < u.y ? (u.x / 2,
+// u.y - u.x / 2) : (u.x - u.y / 2, u.y / 2). Without a branch (minss, maxss and a mask select,
+// the same values bit for bit): the comparison is a coin flip at every light sample, and its
+// mispredictions cost more than computing both sides.
 inline Vec2 sampleUniformTriangle(Vec2 u) {
-  float b0, b1;
-  if (u.x < u.y) {
-    b0 = u.x / 2.0f;
-    b1 = u.y - b0;
-  } else {
-    b1 = u.y / 2.0f;
-    b0 = u.x - b1;
-  }
-  return Vec2(b0, b1);
+#if defined(__SSE2__)
+  const __m128 ux = _mm_set_ss(u.x), uy = _mm_set_ss(u.y);
+  const __m128 xFirst = _mm_cmplt_ss(ux, uy);
+  const __m128 half = _mm_mul_ss(_mm_min_ss(ux, uy), _mm_set_ss(0.5f));  // minss: ux < uy ? ux : uy
+  const __m128 rest = _mm_sub_ss(_mm_max_ss(uy, ux), half);              // maxss: uy > ux ? uy : ux
+  const __m128 b0 = _mm_or_ps(_mm_and_ps(xFirst, half), _mm_andnot_ps(xFirst, rest));
+  const __m128 b1 = _mm_or_ps(_mm_and_ps(xFirst, rest), _mm_andnot_ps(xFirst, half));
+  return Vec2(_mm_cvtss_f32(b0), _mm_cvtss_f32(b1));
+#else
+  if (u.x < u.y) return Vec2(u.x * 0.5f, u.y - u.x * 0.5f);
+  return Vec2(u.x - u.y * 0.5f, u.y * 0.5f);
+#endif
 }
 
 // Converts a density per unit area at a point seen from a reference point to a density per

@@ -1,7 +1,5 @@
 #include "renderer/lights/triangle_light.h"
 
-#include <emmintrin.h>
-
 #include <cmath>
 
 #include "renderer/core/warp.h"
@@ -25,19 +23,6 @@ float TriangleLight::power() const {
 }
 
 namespace {
-// sampleUniformTriangle (renderer/core/warp.h) without its branch, same values bit for bit:
-// u.x < u.y is a coin flip at every light sample, and its mispredictions cost more than
-// computing both sides. The smaller coordinate is halved and the other loses that half.
-Vec2 sampleUniformTriangleBranchless(Vec2 u) {
-  const __m128 ux = _mm_set_ss(u.x), uy = _mm_set_ss(u.y);
-  const __m128 xFirst = _mm_cmplt_ss(ux, uy);
-  const __m128 half = _mm_mul_ss(_mm_min_ss(ux, uy), _mm_set_ss(0.5f));  // minss: ux < uy ? ux : uy
-  const __m128 rest = _mm_sub_ss(_mm_max_ss(uy, ux), half);              // maxss: uy > ux ? uy : ux
-  const __m128 b0 = _mm_or_ps(_mm_and_ps(xFirst, half), _mm_andnot_ps(xFirst, rest));
-  const __m128 b1 = _mm_or_ps(_mm_and_ps(xFirst, rest), _mm_andnot_ps(xFirst, half));
-  return Vec2(_mm_cvtss_f32(b0), _mm_cvtss_f32(b1));
-}
-
 // A vertex attribute at barycentrics (b0, b1) of the first two vertices.
 template <class T>
 T interpolate(const T& a0, const T& a1, const T& a2, Vec2 b) {
@@ -72,7 +57,7 @@ std::optional<LightLiSample> TriangleLight::sampleLiDeferred(const Vec3& refPoin
     result.reset();
     return result;
   }
-  const Vec2 b = sampleUniformTriangleBranchless(u);
+  const Vec2 b = sampleUniformTriangle(u);
   const Vec3 pLight = interpolate(desc_.p0, desc_.p1, desc_.p2, b);  // pointAt's, without its EmitterPoint
   const Vec3 toLight = pLight - refPoint;
   const float dist2 = lengthSquared(toLight);

@@ -4,6 +4,7 @@
 // luminance has a constant L / pdf, and nothing returns NaN at grazing angles.
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -162,6 +163,25 @@ test::ChiSquareResult chiSquareTriangleLi(const TriangleLight& light, const Tria
   test::ChiSquareResult r = test::chiSquareTest(observed, expected, 0.01, /*testCount=*/3);
   r.detail += ", density integral " + std::to_string(total);
   return r;
+}
+
+TEST(Light, UniformTriangleWarpIsHeitzMapBitForBit) {
+  // The branch-free warp against the map's definition, on a grid with ties (u.x == u.y), zeros
+  // and values just below one.
+  const auto definition = [](Vec2 u) {
+    if (u.x < u.y) return Vec2(u.x / 2.0f, u.y - u.x / 2.0f);
+    return Vec2(u.x - u.y / 2.0f, u.y / 2.0f);
+  };
+  const float edge[] = {0.0f, 1e-30f, 0.25f, 0.5f, std::nextafter(1.0f, 0.0f)};
+  std::vector<Vec2> us;
+  for (float a : edge)
+    for (float b : edge) us.push_back(Vec2(a, b));
+  sampling::Pcg32 rng(3, 1);
+  for (int i = 0; i < 100000; ++i) us.push_back(Vec2(rng.nextFloat(), rng.nextFloat()));
+  for (const Vec2 u : us) {
+    const Vec2 got = sampleUniformTriangle(u), want = definition(u);
+    ASSERT_EQ(std::bit_cast<uint64_t>(got), std::bit_cast<uint64_t>(want)) << u.x << " " << u.y;
+  }
 }
 
 TEST(Light, TriangleSampleLiDirectionsFollowPdfLi) {
