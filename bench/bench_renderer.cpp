@@ -1,0 +1,189 @@
+// Renderer hot paths on the benchmark scene (scenes/cornell-box-mitsuba.json, the scene of
+// cornell_vs_mitsuba.sh), one thread, so that a change to one stage can be measured without
+// the noise of whole renders: closest-hit and shadow rays (Embree plus our hit geometry),
+// Lambertian BSDF sampling, triangle light sampling, wavelength sampling, a material's shading,
+// and whole camera paths. Items are rays, samples or paths; compare items_per_second between
+// builds (docs/renderer.md, "Performance").
+#include <benchmark/benchmark.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "renderer/bsdf/bsdf.h"
+#include "renderer/color/wavelengths.h"
+#include "renderer/core/warp.h"
+#include "renderer/integrators/path_tracer.h"
+#include "renderer/integrators/render_scene.h"
+#include "renderer/sampling/pcg.h"
+#include "renderer/scene/load_scene.h"
+
+namespace {
+
+using namespace tex;
+using namespace tex::render;
+
+constexpr int kPool = 4096;  // rays, points and random numbers cycled through by each benchmark
+
+float uniform(uint64_t index, int dimension) { return sampling::randomUniform(7, index, dimension); }
+
+// The scene, and a pool of incoherent rays like a path tracer's secondary rays: from points
+// inside the box in uniformly distributed directions, with the shadow rays from their hits to
+// points on the light.
+struct Cornell {
+  SceneDescription description;
+  std::unique_ptr<RenderScene> scene;
+  std::vector<Ray> rays;
+  std::vector<Ray> shadowRays;
+  std::vector<Vec3> hitPoints;
+
+  Cornell() {
+    std::string error;
+    std::optional<SceneDescription> loaded = loadScene(TEX_SOURCE_DIR "/scenes/cornell-box-mitsuba.json", error);
+    if (!loaded) fail(error);
+    description = std::move(*loaded);
+    RenderSceneOptions options;
+    options.width = options.height = 256;
+    scene = RenderScene::build(description, options, error);
+    if (!scene) fail(error);
+    const Bounds3& b = scene->geometry().bounds();
+    const Light& light = *scene->lights().front();
+    const Wavelengths lambda = color::sampleWavelengthGroup(0.5f, 4);
+    for (uint64_t i = 0; rays.size() < size_t(kPool); ++i) {
+      Ray r;
+      const Vec3 t(0.1f + 0.8f * uniform(i, 0), 0.1f + 0.8f * uniform(i, 1), 0.1f + 0.8f * uniform(i, 2));
+      r.origin = b.lower + (b.upper - b.lower) * t;
+      r.direction = sampleUniformSphere(Vec2(uniform(i, 3), uniform(i, 4)));
+      SurfaceHit hit;
+      if (!scene->geometry().intersect(r, hit)) continue;
+      rays.push_back(r);
+      hitPoints.push_back(hit.p);
+      const std::optional<LightLiSample> ls = light.sampleLi(hit.p, Vec2(uniform(i, 5), uniform(i, 6)), lambda);
+      if (!ls || !(ls->pdfW > 0.0f)) continue;
+      Ray s;
+      s.origin = offsetRayOrigin(hit.p, hit.ng, ls->wi);
+      s.direction = ls->wi;
+      s.tMax = ls->distance * 0.999f;
+      shadowRays.push_back(s);
+    }
+  }
+  [[noreturn]] static void fail(const std::string& error) {
+    std::fprintf(stderr, "bench_renderer: %s\n", error.c_str());
+    std::exit(1);
+  }
+};
+
+const Cornell& cornell() {
+  static const Cornell c;
+  return c;
+}
+
+void BM_ClosestHit(benchmark::State& state) {
+  const Cornell& c = cornell();
+  SurfaceHit hit;
+  size_t i = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(c.scene->geometry().intersect(c.rays[i], hit));
+    benchmark::DoNotOptimize(hit);
+    i = (i + 1) % c.rays.size();
+  }
+  state.SetItemsProcessed(int64_t(state.iterations()));
+}
+BENCHMARK(BM_ClosestHit);
+
+void BM_ShadowRay(benchmark::State& state) {
+  const Cornell& c = cornell();
+  size_t i = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(c.scene->geometry().occluded(c.shadowRays[i]));
+    i = (i + 1) % c.shadowRays.size();
+  }
+  state.SetItemsProcessed(int64_t(state.iterations()));
+}
+BENCHMARK(BM_ShadowRay);
+
+void BM_LambertianSample(benchmark::State& state) {
+  const Vec3 n = glm::normalize(Vec3(0.2f, 0.9f, 0.1f));
+  Bsdf bsdf(Frame::fromNormal(n), n);
+  Lobe lobe;
+  lobe.kind = LobeKind::Lambertian;
+  lobe.weight = Spectrum(0.7f);
+  bsdf.add(lobe);
+  const Vec3 wo = glm::normalize(Vec3(0.3f, 0.8f, -0.2f));
+  uint64_t i = 0;
+  for (auto _ : state) {
+    const std::optional<BsdfSample> s = bsdf.sample(wo, uniform(i, 0), Vec2(uniform(i, 1), uniform(i, 2)), TransportMode::Radiance);
+    benchmark::DoNotOptimize(s);
+    i = (i + 1) % kPool;
+  }
+  state.SetItemsProcessed(int64_t(state.iterations()));
+}
+BENCHMARK(BM_LambertianSample);
+
+void BM_TriangleLightSample(benchmark::State& state) {
+  const Cornell& c = cornell();
+  const Light& light = *c.scene->lights().front();
+  const Wavelengths lambda = color::sampleWavelengthGroup(0.3f, 4);
+  size_t i = 0;
+  for (auto _ : state) {
+    const std::optional<LightLiSample> s = light.sampleLiDeferred(c.hitPoints[i], Vec2(uniform(i, 7), uniform(i, 8)), lambda);
+    benchmark::DoNotOptimize(s);
+    i = (i + 1) % c.hitPoints.size();
+  }
+  state.SetItemsProcessed(int64_t(state.iterations()));
+}
+BENCHMARK(BM_TriangleLightSample);
+
+void BM_WavelengthGroup(benchmark::State& state) {
+  uint64_t i = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(color::sampleWavelengthGroup(uniform(i, 9), 4));
+    i = (i + 1) % kPool;
+  }
+  state.SetItemsProcessed(int64_t(state.iterations()));
+}
+BENCHMARK(BM_WavelengthGroup);
+
+// A material's shading at a new wavelength group every time (as at a path's first hit on it;
+// later hits replay the per-thread memo).
+void BM_MaterialShade(benchmark::State& state) {
+  const Cornell& c = cornell();
+  SurfaceHit hit;
+  c.scene->geometry().intersect(c.rays[0], hit);
+  const ShadingPoint sp = RenderScene::shadingPoint(hit);
+  const int material = c.scene->materials().materialOfPrimitive(hit.primitive);
+  uint64_t i = 0;
+  for (auto _ : state) {
+    const Wavelengths lambda = color::sampleWavelengthGroup(uniform(i, 10), 4);
+    Bsdf bsdf(Frame::fromNormal(sp.ns), sp.ng);
+    Spectrum emission;
+    benchmark::DoNotOptimize(c.scene->materials().shade(material, sp, lambda, bsdf, emission));
+    benchmark::DoNotOptimize(bsdf);
+    i = (i + 1) % kPool;
+  }
+  state.SetItemsProcessed(int64_t(state.iterations()));
+}
+BENCHMARK(BM_MaterialShade);
+
+// Whole camera paths as cornell_vs_mitsuba.sh traces them (4 wavelengths, max depth 7), one
+// thread, without the film: the per-path cost every stage above adds up to.
+void BM_CornellPaths(benchmark::State& state) {
+  const Cornell& c = cornell();
+  PathTracerSettings settings;
+  settings.maxDepth = 7;
+  settings.filmWidth = settings.filmHeight = 256;
+  const PathTracer tracer(*c.scene, sampling::Sampler(sampling::SamplerKind::Sobol, 1), settings);
+  uint64_t index = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(tracer.record(index));
+    ++index;
+  }
+  state.SetItemsProcessed(int64_t(state.iterations()));
+}
+BENCHMARK(BM_CornellPaths);
+
+}  // namespace
+
+BENCHMARK_MAIN();
