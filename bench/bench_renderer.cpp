@@ -27,7 +27,17 @@ using namespace tex::render;
 
 constexpr int kPool = 4096;  // rays, points and random numbers cycled through by each benchmark
 
-float uniform(uint64_t index, int dimension) { return sampling::randomUniform(7, index, dimension); }
+// Random numbers drawn once (drawing them inside a timed loop would cost as much as some of the
+// stages measured): dimension d of item i.
+constexpr int kDimensions = 16;
+float uniform(uint64_t index, int dimension) {
+  static const std::vector<float> table = [] {
+    std::vector<float> t(size_t(kPool) * kDimensions);
+    for (size_t k = 0; k < t.size(); ++k) t[k] = sampling::randomUniform(7, k / kDimensions, int(k % kDimensions));
+    return t;
+  }();
+  return table[size_t(index % kPool) * kDimensions + size_t(dimension)];
+}
 
 // The scene, and a pool of incoherent rays like a path tracer's secondary rays: from points
 // inside the box in uniformly distributed directions, with the shadow rays from their hits to
@@ -51,16 +61,17 @@ struct Cornell {
     const Bounds3& b = scene->geometry().bounds();
     const Light& light = *scene->lights().front();
     const Wavelengths lambda = color::sampleWavelengthGroup(0.5f, 4);
+    const auto draw = [](uint64_t i, int d) { return sampling::randomUniform(11, i, d); };
     for (uint64_t i = 0; rays.size() < size_t(kPool); ++i) {
       Ray r;
-      const Vec3 t(0.1f + 0.8f * uniform(i, 0), 0.1f + 0.8f * uniform(i, 1), 0.1f + 0.8f * uniform(i, 2));
+      const Vec3 t(0.1f + 0.8f * draw(i, 0), 0.1f + 0.8f * draw(i, 1), 0.1f + 0.8f * draw(i, 2));
       r.origin = b.lower + (b.upper - b.lower) * t;
-      r.direction = sampleUniformSphere(Vec2(uniform(i, 3), uniform(i, 4)));
+      r.direction = sampleUniformSphere(Vec2(draw(i, 3), draw(i, 4)));
       SurfaceHit hit;
       if (!scene->geometry().intersect(r, hit)) continue;
       rays.push_back(r);
       hitPoints.push_back(hit.p);
-      const std::optional<LightLiSample> ls = light.sampleLi(hit.p, Vec2(uniform(i, 5), uniform(i, 6)), lambda);
+      const std::optional<LightLiSample> ls = light.sampleLi(hit.p, Vec2(draw(i, 5), draw(i, 6)), lambda);
       if (!ls || !(ls->pdfW > 0.0f)) continue;
       Ray s;
       s.origin = offsetRayOrigin(hit.p, hit.ng, ls->wi);
