@@ -165,9 +165,11 @@ void BM_MaterialShade(benchmark::State& state) {
   c.scene->geometry().intersect(c.rays[0], hit);
   const ShadingPoint sp = RenderScene::shadingPoint(hit);
   const int material = c.scene->materials().materialOfPrimitive(hit.primitive);
+  std::vector<Wavelengths> groups;
+  for (uint64_t k = 0; k < kPool; ++k) groups.push_back(color::sampleWavelengthGroup(uniform(k, 10), 4));
   uint64_t i = 0;
   for (auto _ : state) {
-    const Wavelengths lambda = color::sampleWavelengthGroup(uniform(i, 10), 4);
+    const Wavelengths& lambda = groups[i];
     Bsdf bsdf(Frame::fromNormal(sp.ns), sp.ng);
     Spectrum emission;
     benchmark::DoNotOptimize(c.scene->materials().shade(material, sp, lambda, bsdf, emission));
