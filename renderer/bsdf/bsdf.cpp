@@ -148,6 +148,17 @@ Spectrum Bsdf::eval(const Vec3& woWorld, const Vec3& wiWorld, TransportMode mode
   return localEval(wo, wi, mode) * shadingNormalCorrection(c, mode);
 }
 
+Spectrum Bsdf::evalWithPdf(const Vec3& woWorld, const Vec3& wiWorld, TransportMode mode, float& pdfW) const {
+  const Vec3 wo = frame_.toLocal(woWorld), wi = frame_.toLocal(wiWorld);
+  const PairCosines c{wo.z, wi.z, dot3(woWorld, ng_), dot3(wiWorld, ng_)};
+  if (degenerate(c.woNs) || degenerate(c.woNg) || !sidesAgree(c)) {
+    pdfW = 0.0f;
+    return Spectrum();
+  }
+  pdfW = localPdf(wo, wi, mode, 0);
+  return localEval(wo, wi, mode) * shadingNormalCorrection(c, mode);
+}
+
 float Bsdf::pdf(const Vec3& woWorld, const Vec3& wiWorld, TransportMode mode) const {
   return pdfForLane(woWorld, wiWorld, mode, 0);
 }

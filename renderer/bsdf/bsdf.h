@@ -138,6 +138,9 @@ class Bsdf {
   // f = 0 and pdf = 0, and sample() drops them, so pdf() is the density sample() really has.
   Spectrum eval(const Vec3& woWorld, const Vec3& wiWorld, TransportMode mode) const;
   float pdf(const Vec3& woWorld, const Vec3& wiWorld, TransportMode mode) const;
+  // eval() and pdf() of one pair of directions at once (next-event estimation needs both): one
+  // change of frame and one side test; each value bit for bit the one eval() / pdf() returns.
+  Spectrum evalWithPdf(const Vec3& woWorld, const Vec3& wiWorld, TransportMode mode, float& pdfW) const;
   // pdf() as if lane `lane` had been the hero wavelength (lobePdfForLane per lobe).
   float pdfForLane(const Vec3& woWorld, const Vec3& wiWorld, TransportMode mode, int lane) const;
   // Chooses a lobe with probability proportional to its selection weight (the mean of |weight|

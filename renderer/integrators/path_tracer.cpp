@@ -227,7 +227,8 @@ Spectrum PathTracer::radiance(const sampling::IndexSampler& samples, const Ray& 
         // known to be visible: most of its cost is spent on samples that are not.
         const std::optional<LightLiSample> ls = light.sampleLiDeferred(hit.p, u, lambda);
         if (ls && ls->pdfW > 0.0f && (ls->radianceDeferred || !ls->L.isBlack())) {
-          const Spectrum f = bsdf.eval(wo, ls->wi, TransportMode::Radiance) * absDot(ls->wi, hit.ns);
+          float bsdfPdfW = 0.0f;  // the BSDF technique's density of wi, for MIS
+          const Spectrum f = bsdf.evalWithPdf(wo, ls->wi, TransportMode::Radiance, bsdfPdfW) * absDot(ls->wi, hit.ns);
           if (!f.isBlack()) {
             ++counters.rays;
             if (!geometry.occluded(shadowRay(hit.p, hit.ng, *ls))) {
@@ -236,7 +237,7 @@ Spectrum PathTracer::radiance(const sampling::IndexSampler& samples, const Ray& 
                 const float pdfLight = choice->second * ls->pdfW;
                 const float weight =
                     ls->delta ? 1.0f
-                              : powerHeuristic(pdfLight, bsdfTechniquePdf(ls->wi, bsdf.pdf(wo, ls->wi, TransportMode::Radiance)));
+                              : powerHeuristic(pdfLight, bsdfTechniquePdf(ls->wi, bsdfPdfW));
                 L += beta * f * Li * (spectralWeight * weight / pdfLight);
               }
             }

@@ -4,8 +4,10 @@
 // applies the adjoint shading-normal correction, and no input produces NaN.
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
 #include <complex>
+#include <cstring>
 #include <vector>
 
 #include "renderer/bsdf/bsdf.h"
@@ -253,6 +255,31 @@ TEST(BsdfMixture, NoLeaksAcrossTheGeometricSurface) {
     ASSERT_GT(s->wi.z, 0.0f);
   }
   EXPECT_GT(samples, 10000);
+}
+
+TEST(BsdfMixture, EvalWithPdfIsEvalAndPdfBitForBit) {
+  // A tilted mixture (leaks, both sides, glossy and diffuse parts) and a lone Lambertian, both
+  // modes, directions over the whole sphere.
+  Bsdf mixture = tiltedBsdf();
+  mixture.add(lambertian(lanes({0.6f, 0.1f, 0.3f, 0.05f})));
+  mixture.add(conductor(lanes({0.2f, 0.2f, 0.2f, 0.2f}), lanes({3, 3, 3, 3})));
+  Bsdf lone = tiltedBsdf();
+  lone.add(lambertian(lanes({0.5f, 0.8f, 0.2f, 0.9f})));
+  sampling::Pcg32 rng(43, 5);
+  int nonZero = 0;
+  for (const Bsdf* bsdf : {&mixture, &lone})
+    for (TransportMode mode : {TransportMode::Radiance, TransportMode::Importance})
+      for (int i = 0; i < 20000; ++i) {
+        const Vec3 wo = sampleUniformSphere(Vec2(rng.nextFloat(), rng.nextFloat()));
+        const Vec3 wi = sampleUniformSphere(Vec2(rng.nextFloat(), rng.nextFloat()));
+        float pdfW = -1.0f;
+        const Spectrum f = bsdf->evalWithPdf(wo, wi, mode, pdfW);
+        const Spectrum expectedF = bsdf->eval(wo, wi, mode);
+        ASSERT_EQ(std::memcmp(&f, &expectedF, sizeof f), 0);
+        ASSERT_EQ(std::bit_cast<uint32_t>(pdfW), std::bit_cast<uint32_t>(bsdf->pdf(wo, wi, mode)));
+        nonZero += pdfW > 0.0f;
+      }
+  EXPECT_GT(nonZero, 20000);
 }
 
 TEST(BsdfMixture, ImportanceModeAppliesTheShadingNormalCorrection) {
