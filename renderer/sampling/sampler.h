@@ -27,6 +27,13 @@ struct FilmPosition {
   float x = 0, y = 0;  // [0,1)^2, x to the right, y downwards
 };
 
+// The Sobol fast path's last step: bit-reversed Sobol bits, Owen-scrambled, as a [0,1) float
+// (bitsToUnitFloat(owenScramble(bits, seed)) with neither bit reversal done word-wide: only the
+// float's 24 bits are reversed back).
+inline float scrambledReversedToUnitFloat(uint32_t reversedBits, uint32_t seed) {
+  return float(reverseLow24(laineKarrasPermutation(reversedBits, seed))) * 0x1p-24f;
+}
+
 class Sampler {
  public:
   Sampler(SamplerKind kind, uint64_t seed);
@@ -34,12 +41,10 @@ class Sampler {
   // Coordinate `dimension` of sample `index`, in [0,1).
   float get(uint64_t index, int dimension) const {
     if (kind_ == SamplerKind::Sobol && (index >> 32) == 0) {
-      // bitsToUnitFloat(owenScramble(sobolBits)) with neither bit reversal done word-wide:
-      // the tables give the reversed Sobol bits, and only the float's 24 bits are reversed back.
+      // The tables give the reversed Sobol bits (scrambledReversedToUnitFloat).
       if (unsigned(dimension) < unsigned(kSobolByteTableDimensions))
-        return float(reverseLow24(laineKarrasPermutation(sobolReversedBitsFast(uint32_t(index), dimension),
-                                                         (*scrambleSeeds_)[size_t(dimension)]))) *
-               0x1p-24f;
+        return scrambledReversedToUnitFloat(sobolReversedBitsFast(uint32_t(index), dimension),
+                                            (*scrambleSeeds_)[size_t(dimension)]);
       if (unsigned(dimension) < unsigned(kSobolDimensions))
         return bitsToUnitFloat(owenScramble(sobolBits(uint32_t(index), dimension), (*scrambleSeeds_)[size_t(dimension)]));
     }
@@ -84,7 +89,7 @@ class IndexSampler {
   float get(int dimension) const {
     if (fast_ && unsigned(dimension) < unsigned(kSobolByteTableDimensions)) {
       const uint32_t reversed = kSobolReversedByteTables[dimension][0][lowByte_] ^ highBytesXor_[dimension];
-      return float(reverseLow24(laineKarrasPermutation(reversed, seeds_[dimension]))) * 0x1p-24f;
+      return scrambledReversedToUnitFloat(reversed, seeds_[dimension]);
     }
     return sampler_.get(index_, dimension);
   }

@@ -36,9 +36,11 @@ const char* kMaterials =
 const std::vector<std::string> kIndependent = {"plain", "helper", "folded", "spectral", "light"};
 const std::vector<std::string> kDependent = {"by_uv", "by_let", "by_call", "by_if", "by_fold", "by_capture", "glowing_uv"};
 
-// A scene whose material i is bound to entry i (no geometry: only the material system is used).
-SceneDescription sceneWith(const std::vector<std::string>& entries) {
-  const std::string file = test::writeTexModule("memo_mats", kMaterials);
+// A scene whose material i is bound to entry i of a module (kMaterials unless given; no
+// geometry: only the material system is used).
+SceneDescription sceneWith(const std::vector<std::string>& entries, const std::string& moduleName = "memo_mats",
+                           const std::string& source = kMaterials) {
+  const std::string file = test::writeTexModule(moduleName, source);
   SceneDescription scene;
   for (const std::string& e : entries) {
     GltfMaterial m;
@@ -132,20 +134,13 @@ TEST(ConstantClosure, CapturedOnlyWithoutHitOrWavelengthAndWalksLikeTheCompiledC
   // Constant: the Hit-independent materials without wavelength-dependent values, a smooth glass
   // of constant IOR (a Spectrum splat). Not constant: a spectrum of lambda_nm, a dispersive
   // glass (Cauchy: its IOR reads the wavelengths), every Hit-dependent material.
-  const std::string file = test::writeTexModule(
-      "constant_mats", std::string(kMaterials) +
-                           "export fn glass(h: Hit) -> Material = dielectric(1.5)\n"
-                           "export fn prism(h: Hit) -> Material = dielectric(1.5 + 4200.0 / (lambda_nm * lambda_nm))\n");
   std::vector<std::string> entries = allEntries();
   entries.push_back("glass");
   entries.push_back("prism");
-  SceneDescription scene;
-  for (const std::string& e : entries) {
-    GltfMaterial m;
-    m.name = e;
-    scene.materials.push_back(m);
-  }
-  test::bindEntriesByMaterialName(scene, file, entries);
+  const SceneDescription scene =
+      sceneWith(entries, "constant_mats",
+                std::string(kMaterials) + "export fn glass(h: Hit) -> Material = dielectric(1.5)\n"
+                                          "export fn prism(h: Hit) -> Material = dielectric(1.5 + 4200.0 / (lambda_nm * lambda_nm))\n");
   CompiledBindings compiled;
   std::string error;
   ASSERT_TRUE(compileBindings(scene, 4, false, false, compiled, error)) << error;

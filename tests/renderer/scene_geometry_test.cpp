@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <memory>
 
 #include "renderer/geometry/scene_geometry.h"
 #include "renderer/sampling/pcg.h"
@@ -29,23 +30,32 @@ MeshPrimitive randomSoup(uint64_t seed, int triangles) {
 
 bool sameBits(const Vec3& a, const Vec3& b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
+// Instances of a scene's primitives 0 and 1 and the geometry built from them: primitive 0 used
+// once (baked into the top-level BVH, with the per-triangle table) with linear part `baked`
+// moved to z = -4; primitive 1 used twice (an Embree instance, hit data computed per hit) with
+// linear part `instanced`, at z = +4 and far away at x = +100 (out of the tests' rays).
+std::unique_ptr<SceneGeometry> buildBakedAndInstanced(SceneDescription& scene, Mat4 baked, Mat4 instanced) {
+  Mat4 instancedFar = instanced;
+  baked[3] = Vec4(0.0f, 0.0f, -4.0f, 1.0f);
+  instanced[3] = Vec4(0.0f, 0.0f, 4.0f, 1.0f);
+  instancedFar[3] = Vec4(100.0f, 0.0f, 0.0f, 1.0f);
+  scene.instances.push_back(MeshInstance{0, baked, "baked"});
+  scene.instances.push_back(MeshInstance{1, instanced, "instanced"});
+  scene.instances.push_back(MeshInstance{1, instancedFar, "instanced elsewhere"});
+  std::string error;
+  std::unique_ptr<SceneGeometry> geometry = SceneGeometry::build(scene, error);
+  EXPECT_TRUE(geometry) << error;
+  return geometry;
+}
+
 TEST(SceneGeometry, HitNormalAndUvDerivativesAreTheTrianglesBitForBit) {
   SceneDescription scene;
   scene.primitives.push_back(randomSoup(1, 40));  // used once: baked, per-triangle table
   scene.primitives.push_back(randomSoup(2, 40));  // used twice: instanced, computed per hit
   Mat4 mirrored(1.0f);
   mirrored[0][0] = -1.0f;  // a mirroring transform flips the winding
-  mirrored[3] = Vec4(0.0f, 0.0f, -4.0f, 1.0f);
-  Mat4 shifted(1.0f);
-  shifted[3] = Vec4(0.0f, 0.0f, 4.0f, 1.0f);
-  Mat4 farAway(1.0f);
-  farAway[3] = Vec4(100.0f, 0.0f, 0.0f, 1.0f);
-  scene.instances.push_back(MeshInstance{0, mirrored, "baked"});
-  scene.instances.push_back(MeshInstance{1, shifted, "instanced"});
-  scene.instances.push_back(MeshInstance{1, farAway, "instanced elsewhere"});
-  std::string error;
-  const auto geometry = SceneGeometry::build(scene, error);
-  ASSERT_TRUE(geometry) << error;
+  const auto geometry = buildBakedAndInstanced(scene, mirrored, Mat4(1.0f));
+  ASSERT_TRUE(geometry);
 
   int hits[2] = {0, 0};
   for (uint64_t i = 0; i < 4000; ++i) {
@@ -97,19 +107,10 @@ TEST(SceneGeometry, ShadingNormalsAreFlatOrInterpolatedPerTriangle) {
     scene.primitives.push_back(m);
   }
   Mat4 stretched(1.0f);
-  stretched[0][0] = 1.0f;
   stretched[1][1] = 3.0f;
   stretched[2][2] = 0.5f;
-  Mat4 baked = stretched, instanced = stretched, instancedFar = stretched;
-  baked[3] = Vec4(0.0f, 0.0f, -4.0f, 1.0f);
-  instanced[3] = Vec4(0.0f, 0.0f, 4.0f, 1.0f);
-  instancedFar[3] = Vec4(100.0f, 0.0f, 0.0f, 1.0f);
-  scene.instances.push_back(MeshInstance{0, baked, "baked"});
-  scene.instances.push_back(MeshInstance{1, instanced, "instanced"});
-  scene.instances.push_back(MeshInstance{1, instancedFar, "instanced elsewhere"});
-  std::string error;
-  const auto geometry = SceneGeometry::build(scene, error);
-  ASSERT_TRUE(geometry) << error;
+  const auto geometry = buildBakedAndInstanced(scene, stretched, stretched);
+  ASSERT_TRUE(geometry);
   const glm::mat3 normalToWorld = glm::transpose(glm::inverse(glm::mat3(stretched)));
 
   int flatHits = 0, smoothHits = 0;
