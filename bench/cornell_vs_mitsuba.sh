@@ -57,35 +57,50 @@ if ! "$VENV/bin/python" -c 'import mitsuba, numpy' 2>/dev/null; then
   "$VENV/bin/pip" install --quiet mitsuba numpy
 fi
 PY="$VENV/bin/python"
-MI="$PY bench/mitsuba_cornell.py"
+MI="$PY bench/mitsuba_cornell.py --rr-depth ${RR_DEPTH:-5}"
 
 # Mitsuba's max_depth counts path vertices after the camera (1 = emitters seen directly),
 # tex's counts scattering events (0 = emitters seen directly): 8 there is 7 here.
 MI_DEPTH=8
 TEX_DEPTH=$((MI_DEPTH - 1))
-TEX_FLAGS=(--res 256x256 --threads "$THREADS" --wavelengths 4 --max-depth "$TEX_DEPTH" -q)
+# Russian roulette: Mitsuba's path integrator starts it after rr_depth scattering events (default
+# 5), counted as tex's --roulette-depth; tex's own default is 3, which traces about a fifth fewer
+# rays per path here. The headline uses Mitsuba's, so both sides trace paths of the same lengths.
+RR_DEPTH=${RR_DEPTH:-5}
+TEX_DEFAULT_RR_DEPTH=3
+TEX_FLAGS=(--res 256x256 --threads "$THREADS" --wavelengths 4 --max-depth "$TEX_DEPTH" --roulette-depth "$RR_DEPTH" -q)
 
 # tex's summary: "... N samples (S spp) in T s, ..." -> paths/s (one camera path per sample).
 tex_paths_per_s() {
   sed -nE 's/.*: ([0-9]+) samples \([^)]*\) in ([0-9.]+) s,.*/\1 \2/p' "$1" | awk '{ printf "%.1f\n", $1 / $2 }'
 }
 # CPU seconds / wall seconds of the whole tex process (bash's `time`; includes scene set-up).
+# rays per camera path from the same summary line ("... S M samples/s, R M rays/s, ...").
+tex_rays_per_path() {
+  sed -nE 's/.* ([0-9.]+) ([kM]) samples\/s, ([0-9.]+) ([kM]) rays\/s.*/\1 \2 \3 \4/p' "$1" |
+    awk '{ s = $1 * ($2 == "M" ? 1e6 : 1e3); r = $3 * ($4 == "M" ? 1e6 : 1e3); printf "%.2f\n", r / s }'
+}
 tex_cpu() { sed -nE 's/^TIME ([0-9.]+) ([0-9.]+) ([0-9.]+)$/\1 \2 \3/p' "$1" | awk '{ printf "%.3f\n", ($2 + $3) / $1 }'; }
 mi_paths_per_s() { sed -nE 's/^RESULT .* paths_per_s=([0-9.]+).*/\1/p' "$1"; }
 mi_cpu() { sed -nE 's/^RESULT .* cpu_utilisation=([0-9.]+).*/\1/p' "$1"; }
 best() { sort -g | tail -1; }
 
 echo "== machine: $(nproc) cores, load average $(cut -d' ' -f1-3 /proc/loadavg); $("$PY" -c 'import mitsuba; print("mitsuba", mitsuba.__version__)')"
-echo "== timing: 256x256, $SPP_TIME spp, $THREADS threads, Mitsuba max_depth $MI_DEPTH = tex max_depth $TEX_DEPTH, best of $REPEAT"
+echo "== timing: 256x256, $SPP_TIME spp, $THREADS threads, Mitsuba max_depth $MI_DEPTH = tex max_depth $TEX_DEPTH, rr_depth = roulette depth $RR_DEPTH, best of $REPEAT"
 echo "   (paths/s; in brackets CPU seconds / wall seconds: below $THREADS means other processes took CPU time)"
-for r in tex scalar llvm; do : >"$OUT/${r}_rates"; : >"$OUT/${r}_per_cpu"; done
+for r in tex texrr scalar llvm; do : >"$OUT/${r}_rates"; : >"$OUT/${r}_per_cpu"; done
 for ((i = 1; i <= REPEAT; ++i)); do
   TIMEFORMAT='TIME %R %U %S'
   { time "$TEX" render "$SCENE" -o "$OUT/tex_time.exr" --spp "$SPP_TIME" --filter gaussian "${TEX_FLAGS[@]}" ; } >"$OUT/tex_time.log" 2>&1
   tex_paths_per_s "$OUT/tex_time.log" >>"$OUT/tex_rates"
   tex_cpu "$OUT/tex_time.log" >"$OUT/tex_cpu"
   awk -v r="$(tail -1 "$OUT/tex_rates")" -v c="$(cat "$OUT/tex_cpu")" 'BEGIN { printf "%.1f\n", r / c }' >>"$OUT/tex_per_cpu"
-  line="   run $i: tex $(awk -v r="$(tail -1 "$OUT/tex_rates")" 'BEGIN { printf "%.3f", r / 1e6 }') M ($(cat "$OUT/tex_cpu")x)"
+  line="   run $i: tex $(awk -v r="$(tail -1 "$OUT/tex_rates")" 'BEGIN { printf "%.3f", r / 1e6 }') M ($(cat "$OUT/tex_cpu")x, $(tex_rays_per_path "$OUT/tex_time.log") rays/path)"
+  # For reference only: tex with its own default roulette depth (shorter paths, more noise).
+  "$TEX" render "$SCENE" -o "$OUT/tex_time_rr.exr" --spp "$SPP_TIME" --filter gaussian "${TEX_FLAGS[@]}" \
+    --roulette-depth "$TEX_DEFAULT_RR_DEPTH" >"$OUT/texrr_time.log" 2>&1
+  tex_paths_per_s "$OUT/texrr_time.log" >>"$OUT/texrr_rates"
+  line+=", tex at roulette depth $TEX_DEFAULT_RR_DEPTH $(awk -v r="$(tail -1 "$OUT/texrr_rates")" 'BEGIN { printf "%.3f", r / 1e6 }') M ($(tex_rays_per_path "$OUT/texrr_time.log") rays/path)"
   for v in scalar llvm; do
     variant=$([[ $v == scalar ]] && echo scalar_spectral || echo llvm_ad_spectral)
     $MI --variant "$variant" --spp "$SPP_TIME" --threads "$THREADS" --max-depth "$MI_DEPTH" >"$OUT/${v}_time.log" 2>&1
@@ -101,6 +116,8 @@ for m in rates per_cpu; do
     printf "   best %s tex %.3f M | mitsuba scalar_spectral %.3f M | llvm_ad_spectral %.3f M | tex/scalar %.3f | tex/llvm %.3f\n",
       what, t/1e6, s/1e6, l/1e6, t/s, t/l }'
 done
+awk -v t="$(best <"$OUT/texrr_rates")" -v l="$(best <"$OUT/llvm_rates")" -v d="$TEX_DEFAULT_RR_DEPTH" 'BEGIN {
+  printf "   (not like for like: tex at its default roulette depth %d, shorter paths: %.3f M paths/s, tex/llvm %.3f)\n", d, t/1e6, t/l }'
 
 echo "== agreement: $SPP_CMP spp each, $FILTER_CMP pixel filter"
 "$TEX" render "$SCENE" -o "$OUT/tex.exr" --spp "$SPP_CMP" --filter "$FILTER_CMP" "${TEX_FLAGS[@]}" | sed 's/^/   /'

@@ -49,6 +49,7 @@ def main():
     ap.add_argument("--threads", type=int, default=2, help="worker threads")
     ap.add_argument("--seed", type=int, default=0, help="seed of the first pass (pass i uses seed + i)")
     ap.add_argument("--max-depth", type=int, default=8, help="Mitsuba max_depth (default 8, as mi.cornell_box())")
+    ap.add_argument("--rr-depth", type=int, default=5, help="Mitsuba rr_depth (default 5, the path integrator's default)")
     ap.add_argument("--box-filter", action="store_true", help="box pixel filter instead of cornell_box()'s gaussian")
     ap.add_argument("-o", "--output", default="", help="EXR to write (optional)")
     args = ap.parse_args()
@@ -69,6 +70,7 @@ def main():
 
     desc = mi.cornell_box()
     desc["integrator"]["max_depth"] = args.max_depth
+    desc["integrator"]["rr_depth"] = args.rr_depth
     if args.box_filter:
         desc["sensor"]["film"]["rfilter"] = {"type": "box"}
     film = desc["sensor"]["film"]
@@ -104,7 +106,7 @@ def main():
     paths = width * height * args.spp
     paths_per_s = paths / seconds
     print(f"mitsuba {mi.__version__} {args.variant}: {width}x{height}, {args.spp} spp "
-          f"({passes} pass(es) of {pass_spp}), max_depth {args.max_depth}, {args.threads} threads: "
+          f"({passes} pass(es) of {pass_spp}), max_depth {args.max_depth}, rr_depth {args.rr_depth}, {args.threads} threads: "
           f"{seconds:.2f} s, {paths_per_s / 1e6:.3f} M paths/s "
           f"(scene load {load_s:.2f} s, warm-up {warm_s:.2f} s untimed; CPU {cpu / seconds:.2f}x wall); "
           f"mean RGB {mean[..., 0].mean():.5f} {mean[..., 1].mean():.5f} {mean[..., 2].mean():.5f}")

@@ -35,6 +35,8 @@ const char* kRenderUsage =
     "  --res WxH           image resolution (default 512x512, or the scene's)\n"
     "  --integrator NAME   path (default; the only one so far)\n"
     "  --max-depth N       scattering events per path (default 8)\n"
+    "  --roulette-depth N  Russian roulette may end a path after N scattering events (default 3;\n"
+    "                      Mitsuba 3's rr_depth counts the same way)\n"
     "  --wavelengths N     wavelengths per path: 4 or 8 (default 4)\n"
     "  --spectral-mode M   mis | terminate | single: at dispersion keep every wavelength with\n"
     "                      spectral MIS (default), keep only the hero, or trace one per path\n"
@@ -59,7 +61,7 @@ int fail(const std::string& message) {
 struct RenderFlags {
   std::string scene, samplesOut, integrator;
   std::vector<std::string> outputs;  // -o may repeat: the same render written to each
-  int spp = -1, width = -1, height = -1, maxDepth = -1, wavelengths = -1, camera = -1;
+  int spp = -1, width = -1, height = -1, maxDepth = -1, rouletteDepth = -1, wavelengths = -1, camera = -1;
   int64_t seed = -1;
   double timeSeconds = 0;
   int threads = 0;
@@ -100,6 +102,8 @@ int parseFlags(const Args& args, RenderFlags& f) {
       f.integrator = v;
     } else if (a == "--max-depth") {
       if (!value() || !parseIntInRange(v, f.maxDepth, 1, 1000)) return usage("--max-depth needs 1..1000");
+    } else if (a == "--roulette-depth") {
+      if (!value() || !parseIntInRange(v, f.rouletteDepth, 1, 1000)) return usage("--roulette-depth needs 1..1000");
     } else if (a == "--wavelengths") {
       if (!value() || (v != "4" && v != "8")) return usage("--wavelengths needs 4 or 8");
       f.wavelengths = std::stoi(v);
@@ -164,6 +168,7 @@ int runRender(const Args& args) {
   render::RenderSettings& s = scene.settings;
   if (f.spp > 0) s.spp = f.spp;
   if (f.maxDepth > 0) s.maxDepth = f.maxDepth;
+  if (f.rouletteDepth > 0) s.rouletteDepth = f.rouletteDepth;
   if (f.wavelengths > 0) s.wavelengths = f.wavelengths;
   if (f.seed >= 0) s.seed = uint64_t(f.seed);
   if (f.camera >= 0) s.camera = f.camera;
@@ -192,6 +197,7 @@ int runRender(const Args& args) {
   const sampling::Sampler sampler(f.sampler, s.seed);
   render::PathTracerSettings pts;
   pts.maxDepth = s.maxDepth;
+  pts.rouletteDepth = s.rouletteDepth;
   pts.wavelengths = s.wavelengths;
   pts.spectralMode = f.spectralMode;
   pts.filmWidth = s.width;
@@ -257,6 +263,7 @@ int runRender(const Args& args) {
       {"tex.sampler", sampling::samplerName(f.sampler)},
       {"tex.integrator", "path"},
       {"tex.maxDepth", std::to_string(s.maxDepth)},
+      {"tex.rouletteDepth", std::to_string(s.rouletteDepth)},
       {"tex.wavelengths", std::to_string(s.wavelengths)},
       {"tex.spectralMode", render::spectralModeName(f.spectralMode)},
       {"tex.filter", filterName(f.filter)},

@@ -33,7 +33,7 @@ std::optional<SpectralMode> parseSpectralMode(const std::string& name);
 
 struct PathTracerSettings {
   int maxDepth = 8;       // scattering events; 1 = direct lighting only
-  int rouletteDepth = 3;  // bounces before Russian roulette starts
+  int rouletteDepth = 3;  // Russian roulette may end a path after this many scattering events
   int wavelengths = 4;    // 4 or 8
   // false: BSDF sampling only (emission found by hitting it, weight 1) — the reference the MIS
   // estimator is tested against; it cannot see point or directional lights.

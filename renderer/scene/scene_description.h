@@ -136,6 +136,9 @@ struct RenderSettings {
   int width = 512, height = 512;
   int spp = 16;
   int maxDepth = 8;
+  // Russian roulette may end a path after this many scattering events (Mitsuba 3's rr_depth
+  // counts the same way: its default 5 is 5 here).
+  int rouletteDepth = 3;
   int wavelengths = 4;
   uint64_t seed = 0;
   std::string integrator = "path";

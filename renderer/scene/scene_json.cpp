@@ -302,7 +302,7 @@ class SceneJsonLoader {
   }
 
   void settings(const JsonAt& at) {
-    if (!r_.checkKeys(at, {"resolution", "spp", "max_depth", "wavelengths", "seed", "integrator", "camera"})) return;
+    if (!r_.checkKeys(at, {"resolution", "spp", "max_depth", "roulette_depth", "wavelengths", "seed", "integrator", "camera"})) return;
     RenderSettings& s = scene_.settings;
     scene_.settingsGiven = true;
     if (const JsonAt res = r_.child(at, "resolution")) {
@@ -314,6 +314,7 @@ class SceneJsonLoader {
       s.height = int(h);
     }
     if (!r_.integer(at, "spp", s.spp, 1, 1 << 30) || !r_.integer(at, "max_depth", s.maxDepth, 0, 1 << 16) ||
+        !r_.integer(at, "roulette_depth", s.rouletteDepth, 1, 1 << 16) ||
         !r_.integer(at, "wavelengths", s.wavelengths, 1, 8) || !r_.unsigned64(at, "seed", s.seed) ||
         !r_.string(at, "integrator", s.integrator) || !r_.integer(at, "camera", s.camera, 0, 1 << 20))
       return;

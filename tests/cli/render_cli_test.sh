@@ -29,6 +29,19 @@ for mode in mis terminate single; do
   expect_exit 0 "spectral mode $mode" "$tex" render "$src/scenes/default.json" --spp 1 --res 16x16 --spectral-mode $mode -q -o "$tmp/m.png"
 done
 expect_exit 0 "help" "$tex" render --help
+# The roulette depth reaches the path tracer: later roulette, longer paths (more rays per
+# sample, from the summary's samples/s and rays/s), and the EXR records it.
+rays_per_sample() {
+  echo "$1" | sed -nE 's/.* ([0-9.]+) ([kM]) samples\/s, ([0-9.]+) ([kM]) rays\/s.*/\1 \2 \3 \4/p' |
+    awk '{ s = $1 * ($2 == "M" ? 1e6 : 1e3); r = $3 * ($4 == "M" ? 1e6 : 1e3); printf "%.3f\n", r / s }'
+}
+expect_exit 0 "roulette depth 1" "$tex" render "$scene" --spp 8 --res 32x32 --roulette-depth 1 -q -o "$tmp/r1.exr"
+rays1=$(rays_per_sample "$out")
+expect_exit 0 "roulette depth 8" "$tex" render "$scene" --spp 8 --res 32x32 --roulette-depth 8 -q -o "$tmp/r8.exr"
+rays8=$(rays_per_sample "$out")
+awk -v a="$rays1" -v b="$rays8" 'BEGIN { exit !(a > 0 && b > 1.2 * a) }' ||
+  fail "roulette depth 8 should trace longer paths than 1: $rays8 vs $rays1 rays per sample"
+grep -aq "rouletteDepth" "$tmp/r8.exr" || fail "the EXR does not record the roulette depth"
 # A time budget stops a long render early and keeps what was done.
 start=$(date +%s)
 expect_exit 0 "time budget" "$tex" render "$scene" --spp 100000 --res 64x64 --time 1 -q -o "$tmp/t.exr"
@@ -53,6 +66,8 @@ expect_exit 2 "bad spp" "$tex" render "$scene" --spp zero
 expect_exit 2 "bad resolution" "$tex" render "$scene" --res 10by10
 expect_exit 2 "bad output type" "$tex" render "$scene" -o out.jpg
 expect_exit 2 "bad spectral mode" "$tex" render "$scene" --spectral-mode all
+expect_exit 2 "bad roulette depth" "$tex" render "$scene" --roulette-depth 0
+echo "$out" | grep -q "roulette-depth needs" || fail "bad roulette depth not named: $out"
 expect_exit 2 "no scene" "$tex" render
 
 # Bad files: errors (exit 1) naming the file, no crash.

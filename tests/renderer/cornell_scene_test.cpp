@@ -80,7 +80,8 @@ TEST(CornellScene, LoadsWithMitsubasGeometry) {
   EXPECT_NEAR(b.at("small-box").hi.x - b.at("small-box").lo.x, turned, kTol);
   ASSERT_EQ(s->cameras.size(), 1u);
   EXPECT_NEAR(s->cameras[0].yFovRadians, 39.3077f * 3.14159265f / 180, 1e-6f);
-  EXPECT_EQ(s->settings.maxDepth, 7);  // Mitsuba's max_depth 8
+  EXPECT_EQ(s->settings.maxDepth, 7);       // Mitsuba's max_depth 8
+  EXPECT_EQ(s->settings.rouletteDepth, 5);  // Mitsuba's rr_depth 5
 }
 
 // Image mean of Mitsuba 3.9.1 on mi.cornell_box(), 256x256, 256 spp, mean of its scalar_spectral and
@@ -101,6 +102,7 @@ TEST(CornellScene, SmallRenderIsFiniteAndMatchesMitsubaMean) {
   ASSERT_TRUE(rs) << error;
   PathTracerSettings settings;
   settings.maxDepth = s->settings.maxDepth;
+  settings.rouletteDepth = s->settings.rouletteDepth;
   settings.wavelengths = 4;
   const PathTracer tracer(*rs, sampling::Sampler(sampling::SamplerKind::Sobol, 11), settings);
   // Every pixel equally often; the image mean is the mean of the per-sample colours.

@@ -109,6 +109,7 @@ TEST(SceneJson, FixtureLoadsEverySection) {
   EXPECT_EQ(scene->settings.height, 240);
   EXPECT_EQ(scene->settings.spp, 64);
   EXPECT_EQ(scene->settings.maxDepth, 12);
+  EXPECT_EQ(scene->settings.rouletteDepth, 6);
   EXPECT_EQ(scene->settings.wavelengths, 8);
   EXPECT_EQ(scene->settings.seed, 7u);
   EXPECT_EQ(scene->settings.integrator, "bdpt");
@@ -154,6 +155,9 @@ TEST(SceneJson, WrongTypesAndRanges) {
   EXPECT_NE(firstError(R"({"render": {"spp": "many"}})").find("render.spp: expected an integer, got a string"),
             std::string::npos);
   EXPECT_NE(firstError(R"({"render": {"wavelengths": 5}})").find("must be 4 or 8"), std::string::npos);
+  EXPECT_NE(firstError(R"({"render": {"roulette_depth": 0}})").find("render.roulette_depth"), std::string::npos);
+  EXPECT_NE(firstError(R"({"render": {"roulette_depth": 2.5}})").find("render.roulette_depth: expected an integer"),
+            std::string::npos);
   EXPECT_NE(firstError(R"({"render": {"resolution": [640]}})").find("[width, height]"), std::string::npos);
   EXPECT_NE(firstError(R"({"lights": [{"type": "point", "position": [0, 1]}]})").find("lights[0].position: expected an array of 3 numbers"),
             std::string::npos);
