@@ -180,12 +180,14 @@ void BM_MaterialShade(benchmark::State& state) {
 }
 BENCHMARK(BM_MaterialShade);
 
-// Whole camera paths as cornell_vs_mitsuba.sh traces them (4 wavelengths, max depth 7), one
-// thread, without the film: the per-path cost every stage above adds up to.
+// Whole camera paths as cornell_vs_mitsuba.sh traces them (4 wavelengths, the scene's max depth
+// 7 and roulette depth 5), one thread, without the film: the per-path cost every stage above
+// adds up to.
 void BM_CornellPaths(benchmark::State& state) {
   const Cornell& c = cornell();
   PathTracerSettings settings;
-  settings.maxDepth = 7;
+  settings.maxDepth = c.description.settings.maxDepth;
+  settings.rouletteDepth = c.description.settings.rouletteDepth;
   settings.filmWidth = settings.filmHeight = 256;
   const PathTracer tracer(*c.scene, sampling::Sampler(sampling::SamplerKind::Sobol, 1), settings);
   uint64_t index = 0;
