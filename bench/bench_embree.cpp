@@ -2,55 +2,38 @@
 // world triangles in one Embree scene of our own), for each choice the renderer could make:
 // robust (RTC_SCENE_FLAG_ROBUST, watertight: what SceneGeometry uses) or fast (Embree's default,
 // what Mitsuba 3 uses), single rays or packets of 4, 8 and 16 with every lane busy, closest hits
-// and shadow rays. The rays are bench_renderer's incoherent pool (points inside the box, uniform
-// directions; shadow rays from their hits to the light), so items are rays and ns/ray compares
-// directly with bench_renderer's BM_ClosestHit / BM_ShadowRay (which add our hit geometry).
+// and shadow rays. The rays are bench_renderer's incoherent pool (bench/cornell_bench_scene.h:
+// points inside the box, uniform directions; shadow rays from their hits to the light), so items
+// are rays and ns/ray compares directly with bench_renderer's BM_ClosestHit / BM_ShadowRay
+// (which add our hit geometry).
 // docs/renderer.md, "Round 8", quotes these figures.
 #include <benchmark/benchmark.h>
 #include <embree3/rtcore.h>
 
-#include <cstdio>
-#include <cstdlib>
-#include <memory>
-#include <optional>
+#include <type_traits>
 #include <vector>
 
-#include "renderer/color/wavelengths.h"
-#include "renderer/core/warp.h"
-#include "renderer/integrators/render_scene.h"
-#include "renderer/sampling/pcg.h"
-#include "renderer/scene/load_scene.h"
+#include "bench/cornell_bench_scene.h"
 
 namespace {
 
 using namespace tex;
 using namespace tex::render;
 
-constexpr int kPool = 4096;
-
-[[noreturn]] void fail(const std::string& error) {
-  std::fprintf(stderr, "bench_embree: %s\n", error.c_str());
-  std::exit(1);
-}
-
+// Robust and fast Embree scenes of the benchmark scene's world triangles, and its ray pools.
 struct Scenes {
   RTCDevice device = nullptr;
   RTCScene robust = nullptr, fast = nullptr;
-  std::vector<Ray> rays, shadowRays;
+  const std::vector<Ray>& rays = bench::cornellBenchScene().rays;
+  const std::vector<Ray>& shadowRays = bench::cornellBenchScene().shadowRays;
 
   Scenes() {
-    std::string error;
-    std::optional<SceneDescription> description = loadScene(TEX_SOURCE_DIR "/scenes/cornell-box-mitsuba.json", error);
-    if (!description) fail(error);
-    RenderSceneOptions options;
-    options.width = options.height = 256;
-    const std::unique_ptr<RenderScene> scene = RenderScene::build(*description, options, error);
-    if (!scene) fail(error);
-    const SceneGeometry& geometry = scene->geometry();
+    const bench::CornellBenchScene& cornell = bench::cornellBenchScene();
+    const SceneGeometry& geometry = cornell.scene->geometry();
     std::vector<Vec3> world;
-    for (size_t i = 0; i < description->instances.size(); ++i) {
+    for (size_t i = 0; i < cornell.description.instances.size(); ++i) {
       if (!geometry.hasInstance(int(i))) continue;
-      const MeshPrimitive& prim = description->primitives[size_t(description->instances[i].primitive)];
+      const MeshPrimitive& prim = cornell.description.primitives[size_t(cornell.description.instances[i].primitive)];
       for (uint32_t t = 0; t < prim.indices.size() / 3; ++t) {
         Vec3 p[3];
         Vec2 uv[3];
@@ -62,28 +45,6 @@ struct Scenes {
     device = rtcNewDevice(nullptr);
     robust = build(world, RTC_SCENE_FLAG_ROBUST);
     fast = build(world, RTC_SCENE_FLAG_NONE);
-
-    // The same pool as bench_renderer's.
-    const Bounds3& b = geometry.bounds();
-    const Light& light = *scene->lights().front();
-    const Wavelengths lambda = color::sampleWavelengthGroup(0.5f, 4);
-    const auto draw = [](uint64_t i, int d) { return sampling::randomUniform(11, i, d); };
-    for (uint64_t i = 0; rays.size() < size_t(kPool); ++i) {
-      Ray r;
-      const Vec3 t(0.1f + 0.8f * draw(i, 0), 0.1f + 0.8f * draw(i, 1), 0.1f + 0.8f * draw(i, 2));
-      r.origin = b.lower + (b.upper - b.lower) * t;
-      r.direction = sampleUniformSphere(Vec2(draw(i, 3), draw(i, 4)));
-      SurfaceHit hit;
-      if (!geometry.intersect(r, hit)) continue;
-      rays.push_back(r);
-      const std::optional<LightLiSample> ls = light.sampleLi(hit.p, Vec2(draw(i, 5), draw(i, 6)), lambda);
-      if (!ls || !(ls->pdfW > 0.0f)) continue;
-      Ray s;
-      s.origin = offsetRayOrigin(hit.p, hit.ng, ls->wi);
-      s.direction = ls->wi;
-      s.tMax = ls->distance * 0.999f;
-      shadowRays.push_back(s);
-    }
   }
   ~Scenes() {
     rtcReleaseScene(robust);
@@ -151,29 +112,23 @@ void setSingle(RTCRay& p, const Ray& r) {
   p.flags = 0;
 }
 
+// Embree's W-wide packet types and queries.
 template <int W>
-struct PacketTypes;
-template <>
-struct PacketTypes<4> {
-  using Hit = RTCRayHit4;
-  using Shadow = RTCRay4;
-  static void intersect(const int* v, RTCScene s, RTCIntersectContext* c, Hit* h) { rtcIntersect4(v, s, c, h); }
-  static void occluded(const int* v, RTCScene s, RTCIntersectContext* c, Shadow* r) { rtcOccluded4(v, s, c, r); }
-};
-template <>
-struct PacketTypes<8> {
-  using Hit = RTCRayHit8;
-  using Shadow = RTCRay8;
-  static void intersect(const int* v, RTCScene s, RTCIntersectContext* c, Hit* h) { rtcIntersect8(v, s, c, h); }
-  static void occluded(const int* v, RTCScene s, RTCIntersectContext* c, Shadow* r) { rtcOccluded8(v, s, c, r); }
-};
-template <>
-struct PacketTypes<16> {
-  using Hit = RTCRayHit16;
-  using Shadow = RTCRay16;
-  static void intersect(const int* v, RTCScene s, RTCIntersectContext* c, Hit* h) { rtcIntersect16(v, s, c, h); }
-  static void occluded(const int* v, RTCScene s, RTCIntersectContext* c, Shadow* r) { rtcOccluded16(v, s, c, r); }
-};
+using HitPacket = std::conditional_t<W == 4, RTCRayHit4, std::conditional_t<W == 8, RTCRayHit8, RTCRayHit16>>;
+template <int W>
+using ShadowPacket = std::conditional_t<W == 4, RTCRay4, std::conditional_t<W == 8, RTCRay8, RTCRay16>>;
+template <int W>
+void intersectPacket(const int* valid, RTCScene scene, RTCIntersectContext* context, HitPacket<W>* packet) {
+  if constexpr (W == 4) rtcIntersect4(valid, scene, context, packet);
+  else if constexpr (W == 8) rtcIntersect8(valid, scene, context, packet);
+  else rtcIntersect16(valid, scene, context, packet);
+}
+template <int W>
+void occludedPacket(const int* valid, RTCScene scene, RTCIntersectContext* context, ShadowPacket<W>* packet) {
+  if constexpr (W == 4) rtcOccluded4(valid, scene, context, packet);
+  else if constexpr (W == 8) rtcOccluded8(valid, scene, context, packet);
+  else rtcOccluded16(valid, scene, context, packet);
+}
 
 // state.range(0): 1 robust, 0 fast. Width 1 is rtcIntersect1 / rtcOccluded1.
 template <int W, bool Shadow>
@@ -202,21 +157,21 @@ void BM_Embree(benchmark::State& state) {
     } else {
       alignas(64) int valid[W];
       if constexpr (Shadow) {
-        alignas(64) typename PacketTypes<W>::Shadow r;
+        alignas(64) ShadowPacket<W> r;
         for (int j = 0; j < W; ++j) {
           valid[j] = -1;
           setLane(r, j, pool[i + size_t(j)]);
         }
-        PacketTypes<W>::occluded(valid, scene, &context, &r);
+        occludedPacket<W>(valid, scene, &context, &r);
         benchmark::DoNotOptimize(r.tfar[0]);
       } else {
-        alignas(64) typename PacketTypes<W>::Hit rh;
+        alignas(64) HitPacket<W> rh;
         for (int j = 0; j < W; ++j) {
           valid[j] = -1;
           setLane(rh.ray, j, pool[i + size_t(j)]);
           rh.hit.geomID[j] = RTC_INVALID_GEOMETRY_ID;
         }
-        PacketTypes<W>::intersect(valid, scene, &context, &rh);
+        intersectPacket<W>(valid, scene, &context, &rh);
         benchmark::DoNotOptimize(rh.hit.geomID[0]);
       }
     }

@@ -6,9 +6,6 @@
 // builds (docs/renderer.md, "Performance").
 #include <benchmark/benchmark.h>
 
-#include <cstdio>
-#include <cstdlib>
-#include <memory>
 #include <optional>
 #include <vector>
 
@@ -18,7 +15,7 @@
 #include "renderer/integrators/path_tracer.h"
 #include "renderer/integrators/render_scene.h"
 #include "renderer/sampling/pcg.h"
-#include "renderer/scene/load_scene.h"
+#include "bench/cornell_bench_scene.h"
 
 namespace {
 
@@ -39,57 +36,8 @@ float uniform(uint64_t index, int dimension) {
   return table[size_t(index % kPool) * kDimensions + size_t(dimension)];
 }
 
-// The scene, and a pool of incoherent rays like a path tracer's secondary rays: from points
-// inside the box in uniformly distributed directions, with the shadow rays from their hits to
-// points on the light.
-struct Cornell {
-  SceneDescription description;
-  std::unique_ptr<RenderScene> scene;
-  std::vector<Ray> rays;
-  std::vector<Ray> shadowRays;
-  std::vector<Vec3> hitPoints;
-
-  Cornell() {
-    std::string error;
-    std::optional<SceneDescription> loaded = loadScene(TEX_SOURCE_DIR "/scenes/cornell-box-mitsuba.json", error);
-    if (!loaded) fail(error);
-    description = std::move(*loaded);
-    RenderSceneOptions options;
-    options.width = options.height = 256;
-    scene = RenderScene::build(description, options, error);
-    if (!scene) fail(error);
-    const Bounds3& b = scene->geometry().bounds();
-    const Light& light = *scene->lights().front();
-    const Wavelengths lambda = color::sampleWavelengthGroup(0.5f, 4);
-    const auto draw = [](uint64_t i, int d) { return sampling::randomUniform(11, i, d); };
-    for (uint64_t i = 0; rays.size() < size_t(kPool); ++i) {
-      Ray r;
-      const Vec3 t(0.1f + 0.8f * draw(i, 0), 0.1f + 0.8f * draw(i, 1), 0.1f + 0.8f * draw(i, 2));
-      r.origin = b.lower + (b.upper - b.lower) * t;
-      r.direction = sampleUniformSphere(Vec2(draw(i, 3), draw(i, 4)));
-      SurfaceHit hit;
-      if (!scene->geometry().intersect(r, hit)) continue;
-      rays.push_back(r);
-      hitPoints.push_back(hit.p);
-      const std::optional<LightLiSample> ls = light.sampleLi(hit.p, Vec2(draw(i, 5), draw(i, 6)), lambda);
-      if (!ls || !(ls->pdfW > 0.0f)) continue;
-      Ray s;
-      s.origin = offsetRayOrigin(hit.p, hit.ng, ls->wi);
-      s.direction = ls->wi;
-      s.tMax = ls->distance * 0.999f;
-      shadowRays.push_back(s);
-    }
-  }
-  [[noreturn]] static void fail(const std::string& error) {
-    std::fprintf(stderr, "bench_renderer: %s\n", error.c_str());
-    std::exit(1);
-  }
-};
-
-const Cornell& cornell() {
-  static const Cornell c;
-  return c;
-}
+using Cornell = bench::CornellBenchScene;
+const Cornell& cornell() { return bench::cornellBenchScene(); }
 
 void BM_ClosestHit(benchmark::State& state) {
   const Cornell& c = cornell();

@@ -25,6 +25,7 @@
 #   SPP_CMP   spp of the comparison images (default 256)
 #   FILTER_CMP  pixel filter of the comparison images: box (default) or gaussian
 #   THREADS   threads (default 2)
+#   RR_DEPTH  Russian roulette depth of both renderers (default 5, Mitsuba's rr_depth default)
 #   PROFILE   1 (default): 3. where tex's time goes, by component (needs `perf`; skipped without)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -57,7 +58,6 @@ if ! "$VENV/bin/python" -c 'import mitsuba, numpy' 2>/dev/null; then
   "$VENV/bin/pip" install --quiet mitsuba numpy
 fi
 PY="$VENV/bin/python"
-MI="$PY bench/mitsuba_cornell.py --rr-depth ${RR_DEPTH:-5}"
 
 # Mitsuba's max_depth counts path vertices after the camera (1 = emitters seen directly),
 # tex's counts scattering events (0 = emitters seen directly): 8 there is 7 here.
@@ -69,6 +69,7 @@ TEX_DEPTH=$((MI_DEPTH - 1))
 RR_DEPTH=${RR_DEPTH:-5}
 TEX_DEFAULT_RR_DEPTH=3
 TEX_FLAGS=(--res 256x256 --threads "$THREADS" --wavelengths 4 --max-depth "$TEX_DEPTH" --roulette-depth "$RR_DEPTH" -q)
+MI="$PY bench/mitsuba_cornell.py --rr-depth $RR_DEPTH"
 
 # tex's summary: "... N samples (S spp) in T s, ..." -> paths/s (one camera path per sample).
 tex_paths_per_s() {
