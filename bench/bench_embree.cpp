@@ -28,50 +28,15 @@ struct Scenes {
   const std::vector<Ray>& shadowRays = bench::cornellBenchScene().shadowRays;
 
   Scenes() {
-    const bench::CornellBenchScene& cornell = bench::cornellBenchScene();
-    const SceneGeometry& geometry = cornell.scene->geometry();
-    std::vector<Vec3> world;
-    for (size_t i = 0; i < cornell.description.instances.size(); ++i) {
-      if (!geometry.hasInstance(int(i))) continue;
-      const MeshPrimitive& prim = cornell.description.primitives[size_t(cornell.description.instances[i].primitive)];
-      for (uint32_t t = 0; t < prim.indices.size() / 3; ++t) {
-        Vec3 p[3];
-        Vec2 uv[3];
-        Vec3 ng;
-        geometry.triangleWorld(int(i), t, p, uv, ng);
-        world.insert(world.end(), p, p + 3);
-      }
-    }
+    const std::vector<Vec3> world = bench::worldTriangles(bench::cornellBenchScene()).vertices;
     device = rtcNewDevice(nullptr);
-    robust = build(world, RTC_SCENE_FLAG_ROBUST);
-    fast = build(world, RTC_SCENE_FLAG_NONE);
+    robust = bench::buildEmbreeScene(device, world, RTC_SCENE_FLAG_ROBUST);
+    fast = bench::buildEmbreeScene(device, world, RTC_SCENE_FLAG_NONE);
   }
   ~Scenes() {
     rtcReleaseScene(robust);
     rtcReleaseScene(fast);
     rtcReleaseDevice(device);
-  }
-
-  RTCScene build(const std::vector<Vec3>& world, RTCSceneFlags flags) const {
-    RTCScene scene = rtcNewScene(device);
-    rtcSetSceneFlags(scene, flags);
-    rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
-    RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    auto* v = static_cast<float*>(
-        rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), world.size()));
-    auto* idx = static_cast<uint32_t*>(
-        rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), world.size() / 3));
-    for (size_t k = 0; k < world.size(); ++k) {
-      v[3 * k] = world[k].x;
-      v[3 * k + 1] = world[k].y;
-      v[3 * k + 2] = world[k].z;
-      idx[k] = uint32_t(k);
-    }
-    rtcCommitGeometry(g);
-    rtcAttachGeometry(scene, g);
-    rtcReleaseGeometry(g);
-    rtcCommitScene(scene);
-    return scene;
   }
 };
 

@@ -1,0 +1,299 @@
+// A bound for the redesign docs/renderer.md (round 9) discusses: what a wavefront path tracer
+// costs per camera path on the benchmark scene (scenes/cornell-box-mitsuba.json, the scene of
+// cornell_vs_mitsuba.sh) when paths advance in packets of 16 along an active list compacted at
+// every bounce, closest and shadow rays as Embree packets (rtcIntersect16 / rtcOccluded16).
+// Deliberately stripped: Lambertian surfaces with the scene's RGB reflectances and its one area
+// light written in, counter-based random numbers instead of the Sobol sampler, no film (each
+// finished path's luminance is summed), shading one lane at a time. It traces the renderer's
+// paths (max depth 7, roulette after 5 events, next-event estimation with the power heuristic:
+// the same rays per path) and its mean luminance is the image's (the `meanY` counter against
+// the mean Y of a tex render). Not a renderer: the figure is what the renderer's generality
+// (closure trees, Bsdf, Sobol, film) costs on top, and how much of a path Embree takes when
+// packets replace single rays. Arg robust: 1 RTC_SCENE_FLAG_ROBUST (SceneGeometry's), 0 fast.
+#include <benchmark/benchmark.h>
+#include <embree3/rtcore.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "bench/cornell_bench_scene.h"
+#include "renderer/color/spectral_to_rgb.h"
+#include "renderer/core/warp.h"
+#include "renderer/spectra/rgb_spectrum.h"
+
+namespace {
+
+using namespace tex;
+using namespace tex::render;
+
+constexpr int W = 16;
+constexpr int kMaxDepth = 7, kRouletteDepth = 5;
+
+struct Tri {
+  Vec3 p0, e1, e2, n;  // world, unit normal (front: counter-clockwise)
+  int material;        // 0 white, 1 green, 2 red, 3 light
+};
+
+struct Scene {
+  RTCDevice device = nullptr;
+  RTCScene scene = nullptr;
+  std::vector<Tri> tris;
+  std::vector<int> lightTris;
+  std::vector<float> lightCdf;  // by area
+  float lightArea = 0;
+  SigmoidPolynomial albedo[4];
+  RgbUnbounded emission;
+  const Camera* camera = nullptr;
+
+  explicit Scene(RTCSceneFlags flags) {
+    const bench::CornellBenchScene& cornell = bench::cornellBenchScene();
+    camera = &cornell.scene->camera();
+    // cornell_mitsuba.tex: white, green and red diffuse; the light is white-diffuse and emits.
+    const Vec3 rgb[4] = {{0.885809f, 0.698859f, 0.666422f}, {0.105421f, 0.37798f, 0.076425f},
+                         {0.570068f, 0.0430135f, 0.0443706f}, {0.885809f, 0.698859f, 0.666422f}};
+    for (int m = 0; m < 4; ++m) albedo[m] = rgbToSigmoid(rgb[m]);
+    emission = rgbToUnbounded(Vec3(18.387f, 13.9873f, 6.75357f));
+    const bench::WorldTriangles world = bench::worldTriangles(cornell);
+    for (size_t t = 0; t < world.normals.size(); ++t) {
+      const std::string& name = world.materials[t];
+      const int m = name == "white" ? 0 : name == "green" ? 1 : name == "red" ? 2 : name == "light" ? 3 : -1;
+      if (m < 0) bench::CornellBenchScene::fail("wavefront_bound: unexpected material " + name);
+      const Vec3* p = &world.vertices[3 * t];
+      tris.push_back({p[0], p[1] - p[0], p[2] - p[0], world.normals[t], m});
+      if (m == 3) {
+        lightTris.push_back(int(t));
+        lightArea += 0.5f * glm::length(glm::cross(p[1] - p[0], p[2] - p[0]));
+        lightCdf.push_back(lightArea);
+      }
+    }
+    if (lightTris.size() != 2) bench::CornellBenchScene::fail("wavefront_bound: the light should be two triangles");
+    for (float& v : lightCdf) v /= lightArea;
+    device = rtcNewDevice(nullptr);
+    scene = bench::buildEmbreeScene(device, world.vertices, flags);
+  }
+  ~Scene() {
+    rtcReleaseScene(scene);
+    rtcReleaseDevice(device);
+  }
+};
+
+const Scene& theScene(bool robust) {
+  static const Scene robustScene(RTC_SCENE_FLAG_ROBUST), fastScene(RTC_SCENE_FLAG_NONE);
+  return robust ? robustScene : fastScene;
+}
+
+// Counter-based uniform numbers (a path's stream): cheap, vectorisable.
+inline float rnd(uint32_t path, uint32_t dim) {
+  uint32_t x = path * 0x9E3779B9u ^ (dim + 0x7F4A7C15u) * 0x85EBCA6Bu;
+  x ^= x >> 16;
+  x *= 0x7feb352du;
+  x ^= x >> 15;
+  x *= 0x846ca68bu;
+  x ^= x >> 16;
+  return float(x >> 8) * 0x1p-24f;
+}
+
+// Path state, structure of arrays.
+struct Paths {
+  std::vector<float> ox, oy, oz, dx, dy, dz, prevPdf;
+  std::vector<float> beta[4], L[4], lambda[4], pdfLambda[4], albedo[4][4], le[4];
+  std::vector<uint32_t> id;
+  std::vector<int> depth;
+  explicit Paths(size_t n) {
+    for (auto* v : {&ox, &oy, &oz, &dx, &dy, &dz, &prevPdf}) v->resize(n);
+    for (int j = 0; j < 4; ++j) {
+      beta[j].resize(n), L[j].resize(n), lambda[j].resize(n), pdfLambda[j].resize(n), le[j].resize(n);
+      for (int m = 0; m < 4; ++m) albedo[m][j].resize(n);
+    }
+    id.resize(n);
+    depth.resize(n);
+  }
+};
+
+struct Result {
+  double sumY = 0;
+  uint64_t rays = 0;
+};
+
+// Traces paths [first, first + n) to the end, packets of W along an active list compacted at
+// every bounce.
+void tracePaths(const Scene& s, Paths& P, uint32_t first, size_t n, Result& res) {
+  std::vector<uint32_t> active(n), next;
+  next.reserve(n);
+  for (size_t k = 0; k < n; ++k) {
+    const uint32_t path = first + uint32_t(k);
+    active[k] = uint32_t(k);
+    P.id[k] = path;
+    const color::WavelengthGroup g = color::sampleWavelengthGroup(rnd(path, 0), 4);
+    Wavelengths lam = g;
+    for (int m = 0; m < 4; ++m) {
+      const Spectrum a = reflectanceSpectrum(s.albedo[m], lam);
+      for (int j = 0; j < 4; ++j) P.albedo[m][j][k] = a.v[j];
+    }
+    const Spectrum e = illuminantSpectrum(s.emission, lam);
+    const CameraRay cr = s.camera->generateRay({rnd(path, 1), rnd(path, 2)}, Vec2(0.5f));
+    P.ox[k] = cr.ray.origin.x, P.oy[k] = cr.ray.origin.y, P.oz[k] = cr.ray.origin.z;
+    P.dx[k] = cr.ray.direction.x, P.dy[k] = cr.ray.direction.y, P.dz[k] = cr.ray.direction.z;
+    for (int j = 0; j < 4; ++j) {
+      P.lambda[j][k] = g.lambdaNm[size_t(j)];
+      P.pdfLambda[j][k] = g.pdfLambda[size_t(j)];
+      P.le[j][k] = e.v[j];
+      P.beta[j][k] = 1.0f;
+      P.L[j][k] = 0.0f;
+    }
+    P.prevPdf[k] = 0.0f;
+    P.depth[k] = 0;
+  }
+  RTCIntersectContext ctx;
+  while (!active.empty()) {
+    next.clear();
+    for (size_t base = 0; base < active.size(); base += W) {
+      const int lanes = int(std::min<size_t>(W, active.size() - base));
+      const uint32_t* lane = &active[base];
+      alignas(64) int valid[W];
+      alignas(64) RTCRayHit16 rh;
+      for (int i = 0; i < W; ++i) {
+        valid[i] = i < lanes ? -1 : 0;
+        const uint32_t k = i < lanes ? lane[i] : lane[0];
+        rh.ray.org_x[i] = P.ox[k], rh.ray.org_y[i] = P.oy[k], rh.ray.org_z[i] = P.oz[k];
+        rh.ray.dir_x[i] = P.dx[k], rh.ray.dir_y[i] = P.dy[k], rh.ray.dir_z[i] = P.dz[k];
+        rh.ray.tnear[i] = 0.0f, rh.ray.tfar[i] = INFINITY, rh.ray.time[i] = 0.0f;
+        rh.ray.mask[i] = ~0u, rh.ray.id[i] = 0, rh.ray.flags[i] = 0;
+        rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+      }
+      rtcInitIntersectContext(&ctx);
+      rtcIntersect16(valid, s.scene, &ctx, &rh);
+      res.rays += uint64_t(lanes);
+
+      // Shading, next-event sample and continuation per lane; shadow rays as one packet.
+      alignas(64) int shadowValid[W];
+      alignas(64) RTCRay16 sr;
+      float pending[W][4];
+      bool alive[W];
+      for (int i = 0; i < W; ++i) {
+        shadowValid[i] = 0;
+        alive[i] = false;
+        sr.org_x[i] = sr.org_y[i] = sr.org_z[i] = 0.0f;
+        sr.dir_x[i] = sr.dir_y[i] = 0.0f, sr.dir_z[i] = 1.0f;
+        sr.tnear[i] = 0.0f, sr.tfar[i] = 0.0f, sr.time[i] = 0.0f, sr.mask[i] = ~0u, sr.id[i] = 0, sr.flags[i] = 0;
+        if (i >= lanes || rh.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) continue;
+        const uint32_t k = lane[i];
+        const uint32_t path = P.id[k];
+        const int depth = P.depth[k];
+        const Tri& tri = s.tris[rh.hit.primID[i]];
+        const Vec3 d(P.dx[k], P.dy[k], P.dz[k]);
+        const Vec3 p = tri.p0 + tri.e1 * rh.hit.u[i] + tri.e2 * rh.hit.v[i];
+        const float cosIn = dot3(d, tri.n);
+        const Vec3 n = cosIn < 0.0f ? tri.n : -tri.n;  // facing the incoming ray
+        const float* a[4] = {&P.albedo[tri.material][0][k], &P.albedo[tri.material][1][k],
+                             &P.albedo[tri.material][2][k], &P.albedo[tri.material][3][k]};
+        if (tri.material == 3 && cosIn < 0.0f) {
+          float w = 1.0f;
+          if (depth > 0) {
+            const float dist2 = rh.ray.tfar[i] * rh.ray.tfar[i];
+            const float pdfLight = dist2 / (-cosIn * s.lightArea);
+            const float pb = P.prevPdf[k];
+            w = pb * pb / (pb * pb + pdfLight * pdfLight);
+          }
+          for (int j = 0; j < 4; ++j) P.L[j][k] += P.beta[j][k] * P.le[j][k] * w;
+        }
+        if (depth >= kMaxDepth) continue;
+        // Next-event estimation: a point on the light by area.
+        const float ul = rnd(path, 3 + 7 * uint32_t(depth));
+        const int lt = ul < s.lightCdf[0] ? s.lightTris[0] : s.lightTris[1];
+        const Vec2 b = sampleUniformTriangle(Vec2(rnd(path, 4 + 7 * uint32_t(depth)), rnd(path, 5 + 7 * uint32_t(depth))));
+        const Tri& L = s.tris[size_t(lt)];
+        const Vec3 q = L.p0 + L.e1 * b.x + L.e2 * b.y;
+        const Vec3 toL = q - p;
+        const float dist2 = dot3(toL, toL), dist = std::sqrt(dist2);
+        const Vec3 wi = toL / dist;
+        const float cosL = -dot3(wi, L.n), cosS = dot3(wi, n);
+        pending[i][0] = pending[i][1] = pending[i][2] = pending[i][3] = 0.0f;
+        if (cosL > 0.0f && cosS > 0.0f) {
+          const float pdfLight = dist2 / (cosL * s.lightArea);
+          const float pdfBsdf = cosS * kInvPi;
+          const float w = pdfLight * pdfLight / (pdfLight * pdfLight + pdfBsdf * pdfBsdf);
+          const float scale = cosS * kInvPi * w / pdfLight;
+          for (int j = 0; j < 4; ++j) pending[i][j] = P.beta[j][k] * *a[j] * P.le[j][k] * scale;
+          const Vec3 o = offsetRayOrigin(p, n, wi);
+          sr.org_x[i] = o.x, sr.org_y[i] = o.y, sr.org_z[i] = o.z;
+          sr.dir_x[i] = wi.x, sr.dir_y[i] = wi.y, sr.dir_z[i] = wi.z;
+          sr.tfar[i] = dist * 0.999f;
+          shadowValid[i] = -1;
+        }
+        // Continuation: cosine-weighted around n; f cos / pdf = albedo.
+        const Vec3 local = sampleCosineHemisphere(Vec2(rnd(path, 6 + 7 * uint32_t(depth)), rnd(path, 7 + 7 * uint32_t(depth))));
+        const Frame f = Frame::fromNormal(n);
+        const Vec3 wo = f.toWorld(local);
+        float maxBeta = 0.0f;
+        for (int j = 0; j < 4; ++j) {
+          P.beta[j][k] *= *a[j];
+          maxBeta = std::max(maxBeta, P.beta[j][k]);
+        }
+        P.prevPdf[k] = local.z * kInvPi;
+        if (depth + 1 >= kRouletteDepth) {
+          const float q2 = std::min(1.0f, maxBeta);
+          if (rnd(path, 8 + 7 * uint32_t(depth)) >= q2) continue;
+          for (int j = 0; j < 4; ++j) P.beta[j][k] /= q2;
+        }
+        const Vec3 o = offsetRayOrigin(p, n, wo);
+        P.ox[k] = o.x, P.oy[k] = o.y, P.oz[k] = o.z;
+        P.dx[k] = wo.x, P.dy[k] = wo.y, P.dz[k] = wo.z;
+        P.depth[k] = depth + 1;
+        alive[i] = true;
+      }
+      bool anyShadow = false;
+      for (int i = 0; i < W; ++i) anyShadow = anyShadow || shadowValid[i];
+      if (anyShadow) {
+        rtcInitIntersectContext(&ctx);
+        rtcOccluded16(shadowValid, s.scene, &ctx, &sr);
+        for (int i = 0; i < W; ++i) {
+          if (!shadowValid[i]) continue;
+          ++res.rays;
+          if (sr.tfar[i] < 0.0f) continue;
+          const uint32_t k = lane[i];
+          for (int j = 0; j < 4; ++j) P.L[j][k] += pending[i][j];
+        }
+      }
+      for (int i = 0; i < lanes; ++i) {
+        const uint32_t k = lane[i];
+        if (alive[i]) {
+          next.push_back(k);
+        } else {
+          // Finished: its luminance (the film's Y).
+          color::WavelengthGroup g;
+          g.count = 4;
+          float rad[4];
+          for (int j = 0; j < 4; ++j) g.lambdaNm[size_t(j)] = P.lambda[j][k], g.pdfLambda[size_t(j)] = P.pdfLambda[j][k],
+                                      rad[j] = P.L[j][k];
+          res.sumY += color::radianceGroupToXyz(g, rad).y;
+        }
+      }
+    }
+    active.swap(next);
+  }
+}
+
+constexpr size_t kBatch = 4096;
+
+void BM_WavefrontCornellPaths(benchmark::State& state) {
+  const Scene& s = theScene(state.range(0) != 0);
+  Paths P(kBatch);
+  Result res;
+  uint32_t first = 0;
+  uint64_t paths = 0;
+  for (auto _ : state) {
+    tracePaths(s, P, first, kBatch, res);
+    first += kBatch;
+    paths += kBatch;
+  }
+  state.SetItemsProcessed(int64_t(paths));
+  state.counters["meanY"] = res.sumY / double(paths);
+  state.counters["raysPerPath"] = double(res.rays) / double(paths);
+}
+BENCHMARK(BM_WavefrontCornellPaths)->ArgName("robust")->Arg(1)->Arg(0);
+
+}  // namespace
+
+BENCHMARK_MAIN();
