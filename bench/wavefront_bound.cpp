@@ -125,13 +125,12 @@ void tracePaths(const Scene& s, Paths& P, uint32_t first, size_t n, Result& res)
     const uint32_t path = first + uint32_t(k);
     active[k] = uint32_t(k);
     P.id[k] = path;
-    const color::WavelengthGroup g = color::sampleWavelengthGroup(rnd(path, 0), 4);
-    Wavelengths lam = g;
+    const Wavelengths g = color::sampleWavelengthGroup(rnd(path, 0), 4);
     for (int m = 0; m < 4; ++m) {
-      const Spectrum a = reflectanceSpectrum(s.albedo[m], lam);
+      const Spectrum a = reflectanceSpectrum(s.albedo[m], g);
       for (int j = 0; j < 4; ++j) P.albedo[m][j][k] = a.v[j];
     }
-    const Spectrum e = illuminantSpectrum(s.emission, lam);
+    const Spectrum e = illuminantSpectrum(s.emission, g);
     const CameraRay cr = s.camera->generateRay({rnd(path, 1), rnd(path, 2)}, Vec2(0.5f));
     P.ox[k] = cr.ray.origin.x, P.oy[k] = cr.ray.origin.y, P.oz[k] = cr.ray.origin.z;
     P.dx[k] = cr.ray.direction.x, P.dy[k] = cr.ray.direction.y, P.dz[k] = cr.ray.direction.z;
@@ -203,12 +202,12 @@ void tracePaths(const Scene& s, Paths& P, uint32_t first, size_t n, Result& res)
         const float ul = rnd(path, 3 + 7 * uint32_t(depth));
         const int lt = ul < s.lightCdf[0] ? s.lightTris[0] : s.lightTris[1];
         const Vec2 b = sampleUniformTriangle(Vec2(rnd(path, 4 + 7 * uint32_t(depth)), rnd(path, 5 + 7 * uint32_t(depth))));
-        const Tri& L = s.tris[size_t(lt)];
-        const Vec3 q = L.p0 + L.e1 * b.x + L.e2 * b.y;
+        const Tri& lightTri = s.tris[size_t(lt)];
+        const Vec3 q = lightTri.p0 + lightTri.e1 * b.x + lightTri.e2 * b.y;
         const Vec3 toL = q - p;
         const float dist2 = dot3(toL, toL), dist = std::sqrt(dist2);
         const Vec3 wi = toL / dist;
-        const float cosL = -dot3(wi, L.n), cosS = dot3(wi, n);
+        const float cosL = -dot3(wi, lightTri.n), cosS = dot3(wi, n);
         pending[i][0] = pending[i][1] = pending[i][2] = pending[i][3] = 0.0f;
         if (cosL > 0.0f && cosS > 0.0f) {
           const float pdfLight = dist2 / (cosL * s.lightArea);
@@ -233,9 +232,9 @@ void tracePaths(const Scene& s, Paths& P, uint32_t first, size_t n, Result& res)
         }
         P.prevPdf[k] = local.z * kInvPi;
         if (depth + 1 >= kRouletteDepth) {
-          const float q2 = std::min(1.0f, maxBeta);
-          if (rnd(path, 8 + 7 * uint32_t(depth)) >= q2) continue;
-          for (int j = 0; j < 4; ++j) P.beta[j][k] /= q2;
+          const float survive = std::min(1.0f, maxBeta);
+          if (rnd(path, 8 + 7 * uint32_t(depth)) >= survive) continue;
+          for (int j = 0; j < 4; ++j) P.beta[j][k] /= survive;
         }
         const Vec3 o = offsetRayOrigin(p, n, wo);
         P.ox[k] = o.x, P.oy[k] = o.y, P.oz[k] = o.z;
