@@ -23,6 +23,7 @@
 #include "bench/cornell_bench_scene.h"
 #include "renderer/color/spectral_to_rgb.h"
 #include "renderer/core/warp.h"
+#include "renderer/sampling/hash.h"
 #include "renderer/spectra/rgb_spectrum.h"
 
 namespace {
@@ -86,8 +87,9 @@ const Scene& theScene(bool robust) {
   return robust ? robustScene : fastScene;
 }
 
-// Counter-based uniform numbers (a path's stream): cheap, vectorisable. U: uint32_t or a vector
-// of them.
+// Counter-based uniform numbers (a path's stream): the (path, dimension) pair mixed into one word
+// and finished with lowbias32, as sampling::randomUniform's 64-bit hashes would not vectorise.
+// U: uint32_t or a vector of them.
 template <class U>
 U hashBits(U path, U dim) {
   U x = path * 0x9E3779B9u ^ (dim + 0x7F4A7C15u) * 0x85EBCA6Bu;
@@ -99,7 +101,7 @@ U hashBits(U path, U dim) {
   return x;
 }
 inline float rnd(uint32_t path, uint32_t dim) {
-  return float(hashBits(path, dim) >> 8) * 0x1p-24f;
+  return sampling::bitsToUnitFloat(hashBits(path, dim));
 }
 
 // Path state, structure of arrays.

@@ -340,14 +340,20 @@ void SceneGeometry::fillHit(int instance, uint32_t triangle, float b1, float b2,
   Vec2 uv[3];
   if (!prim.uv0.empty())
     for (int k = 0; k < 3; ++k) uv[k] = prim.uv0[vi[k]];
-  // Read in place from the table: a copy on the stack (written in 16-byte pieces) was read
-  // back with narrower loads and stalled on store forwarding (a fifth of this function's time).
-  TriangleFrame computed;
-  if (inst.triangleFrames.empty()) computed = triangleFrame(p, prim.uv0.empty() ? nullptr : uv, inst.flipWinding);
-  const TriangleFrame& frame = inst.triangleFrames.empty() ? computed : inst.triangleFrames[triangle];
-  hit.ng = frame.ng;
-  if (frame.flatNs != Vec3(0.0f)) {
-    hit.ns = frame.flatNs;
+  // The triangle's frame read in place from the baked table (or computed): a copy on the
+  // stack, written in 16-byte pieces, was read back with narrower loads and stalled on store
+  // forwarding (a fifth of this function's time).
+  const auto takeFrame = [&hit](const TriangleFrame& frame) {
+    hit.ng = frame.ng;
+    hit.dpdu = frame.dpdu;
+    hit.dpdv = frame.dpdv;
+    return frame.flatNs;
+  };
+  const Vec3 flatNs = inst.triangleFrames.empty()
+                          ? takeFrame(triangleFrame(p, prim.uv0.empty() ? nullptr : uv, inst.flipWinding))
+                          : takeFrame(inst.triangleFrames[triangle]);
+  if (flatNs != Vec3(0.0f)) {
+    hit.ns = flatNs;
   } else if (!prim.normals.empty()) {
     const Vec3 nObject = prim.normals[vi[0]] * b0 + prim.normals[vi[1]] * b1 + prim.normals[vi[2]] * b2;
     hit.ns = worldShadingNormal(inst.normalToWorld, nObject, hit.ng);
@@ -362,8 +368,6 @@ void SceneGeometry::fillHit(int instance, uint32_t triangle, float b1, float b2,
     if (tl > 0.0f && std::isfinite(tl)) hit.tangent = Vec4(tw / tl, prim.tangents[vi[0]].w < 0.0f ? -1.0f : 1.0f);
   }
   hit.uv = prim.uv0.empty() ? Vec2(0.0f) : uv[0] * b0 + uv[1] * b1 + uv[2] * b2;
-  hit.dpdu = frame.dpdu;
-  hit.dpdv = frame.dpdv;
 }
 
 }  // namespace tex::render
