@@ -85,6 +85,13 @@ Spectrum ggxDielectricReflectionEval(const Lobe& lobe, const Vec3& wo, const Vec
   if (!std::isfinite(kernel)) return Spectrum();
   const float cosOh = dot3(woUp, h);
   Spectrum f;
+  if (!lobe.etaVaries) {
+    // One IOR for the whole group (a coat's always): one Fresnel term, not one per lane.
+    const float fresnel = fresnelDielectric(cosOh, lobe.a.v[0]);
+    for (int i = 0; i < kLanes; ++i)
+      if (lobe.weight.v[i] != 0.0f) f.v[i] = lobe.weight.v[i] * fresnel * kernel;
+    return f;
+  }
   for (int i = 0; i < kLanes; ++i)
     if (lobe.weight.v[i] != 0.0f) f.v[i] = lobe.weight.v[i] * fresnelDielectric(cosOh, lobe.a.v[i]) * kernel;
   return f;

@@ -61,29 +61,31 @@ float coatSelectionReflectance(const Lobe& coat, const Vec3& wo) {
   return usableEta(eta) ? fresnelDielectric(std::fabs(wo.z), eta) : 0.0f;
 }
 
+namespace {
+
+float laneTransmittance(float eta, float cosO, float cosI) {
+  if (!usableEta(eta)) return 1.0f;
+  const float oneMinusAverage = 1.0f - fresnelDielectricAverage(eta);
+  return oneMinusAverage > 0.0f
+             ? (1.0f - fresnelDielectric(cosO, eta)) * (1.0f - fresnelDielectric(cosI, eta)) / oneMinusAverage
+             : 0.0f;
+}
+
+}  // namespace
+
 Spectrum coatTransmittance(const Lobe& coat, const Vec3& wo, const Vec3& wi) {
-  Spectrum t;
   const float cosO = std::fabs(wo.z), cosI = std::fabs(wi.z);
-  for (int i = 0; i < kLanes; ++i) {
-    const float eta = laneEta(coat, i);
-    if (!usableEta(eta)) {
-      t.v[i] = 1.0f;
-      continue;
-    }
-    const float oneMinusAverage = 1.0f - fresnelDielectricAverage(eta);
-    t.v[i] = oneMinusAverage > 0.0f ? (1.0f - fresnelDielectric(cosO, eta)) * (1.0f - fresnelDielectric(cosI, eta)) /
-                                          oneMinusAverage
-                                    : 0.0f;
-  }
+  // One IOR for the group (a coat's always, closure_lobes.cpp): one value for every lane, not
+  // three Fresnel terms and a logarithm per lane.
+  if (!coat.etaVaries) return Spectrum(laneTransmittance(coat.a.v[0], cosO, cosI));
+  Spectrum t;
+  for (int i = 0; i < kLanes; ++i) t.v[i] = laneTransmittance(coat.a.v[i], cosO, cosI);
   return t;
 }
 
 Spectrum coatEval(const Lobe& coat, const Vec3& wo, const Vec3& wi) {
   if (coatIsSpecular(coat)) return Spectrum();
-  Lobe reflection = coat;
-  if (!coat.etaVaries)
-    for (int i = 1; i < kLanes; ++i) reflection.a.v[i] = coat.a.v[0];
-  return ggxDielectricReflectionEval(reflection, wo, wi);
+  return ggxDielectricReflectionEval(coat, wo, wi);  // lane IORs as laneEta gives them
 }
 
 float coatPdf(const Lobe& coat, const Vec3& wo, const Vec3& wi) {
@@ -92,9 +94,7 @@ float coatPdf(const Lobe& coat, const Vec3& wo, const Vec3& wi) {
 
 std::optional<BsdfSample> coatSample(const Lobe& coat, const Vec3& wo, Vec2 u2) {
   if (!coatIsSpecular(coat)) {
-    std::optional<BsdfSample> s = ggxDielectricReflectionSample(coat, wo, u2);
-    if (s) s->f = coatEval(coat, wo, s->wi);
-    return s;
+    return ggxDielectricReflectionSample(coat, wo, u2);  // its f is coatEval's
   }
   const float cosO = std::fabs(wo.z);
   if (!(cosO >= kMinCosTheta)) return std::nullopt;
@@ -102,9 +102,11 @@ std::optional<BsdfSample> coatSample(const Lobe& coat, const Vec3& wo, Vec2 u2) 
   s.specular = true;
   s.wi = Vec3(-wo.x, -wo.y, wo.z);
   s.pdfW = 1.0f;  // the mirror is the coat's only event; Bsdf multiplies its selection probability
+  const float heroFresnel = usableEta(coat.a.v[0]) ? fresnelDielectric(cosO, coat.a.v[0]) : 0.0f;
   for (int i = 0; i < kLanes; ++i) {
     const float eta = laneEta(coat, i);
-    if (coat.weight.v[i] != 0.0f && usableEta(eta)) s.f.v[i] = coat.weight.v[i] * fresnelDielectric(cosO, eta) / cosO;
+    if (coat.weight.v[i] == 0.0f || !usableEta(eta)) continue;
+    s.f.v[i] = coat.weight.v[i] * (coat.etaVaries ? fresnelDielectric(cosO, eta) : heroFresnel) / cosO;
   }
   return s;
 }

@@ -45,6 +45,7 @@ std::optional<BsdfSample> thinDielectricSample(const Lobe& lobe, const Vec3& wo,
 
 // GGX reflection of a dielectric interface only (the coat of a layer): f = w D G F / (4 cos cos),
 // sampled by visible normals (density D_wo(m) / (4 |wo.m|)); two-sided (wo below is mirrored).
+// Lane i's IOR is lobe.a.v[i] when lobe.etaVaries, else lobe.a.v[0] for every lane.
 Spectrum ggxDielectricReflectionEval(const Lobe& lobe, const Vec3& wo, const Vec3& wi);
 float ggxDielectricReflectionPdf(const Lobe& lobe, const Vec3& wo, const Vec3& wi);
 std::optional<BsdfSample> ggxDielectricReflectionSample(const Lobe& lobe, const Vec3& wo, Vec2 u2);

@@ -142,5 +142,59 @@ TEST(BsdfLayer, CoatedEvalIsReciprocalAndNeverNaN) {
   }
 }
 
+// A coat reflects, so its direction never depends on the IOR: every lane uses the hero's IOR
+// (lane 0) unless the lobe says its IOR varies (layer.cpp and ggx_reflection.cpp then compute
+// one Fresnel term for the group). Lanes with other IORs must change nothing, bit for bit.
+TEST(BsdfLayer, CoatUsesTheHeroIorInEveryLaneUnlessItVaries) {
+  const auto coated = [](LobeKind kind, float alpha, const Spectrum& eta, bool etaVaries) {
+    Bsdf bsdf(Frame(), Vec3(0, 0, 1));
+    Lobe base;
+    base.kind = LobeKind::Lambertian;
+    base.weight = uniform(0.8f);
+    base.underCoat = true;
+    EXPECT_TRUE(bsdf.add(base));
+    Lobe coat;
+    coat.kind = kind;
+    coat.weight = uniform(1);
+    coat.a = eta;
+    coat.etaVaries = etaVaries;
+    coat.roughness = alpha;
+    EXPECT_TRUE(bsdf.setCoat(coat));
+    return bsdf;
+  };
+  Spectrum spread;
+  for (int i = 0; i < 4; ++i) spread[i] = 1.5f + 0.1f * float(i);
+  for (const auto& [kind, alpha] : {std::pair{LobeKind::RoughDielectric, 0.3f}, std::pair{LobeKind::SmoothDielectric, 0.0f}}) {
+    const Bsdf hero = coated(kind, alpha, uniform(1.5f), false);
+    const Bsdf spreadIgnored = coated(kind, alpha, spread, false);
+    const Bsdf spreadUsed = coated(kind, alpha, spread, true);
+    sampling::Pcg32 rng(21, 5);
+    int lanesThatDiffer = 0;
+    for (int i = 0; i < 5000; ++i) {
+      const Vec3 wo = sampleUniformHemisphere(Vec2(rng.nextFloat(), rng.nextFloat()));
+      const Vec3 wi = sampleUniformHemisphere(Vec2(rng.nextFloat(), rng.nextFloat()));
+      const float uc = rng.nextFloat();
+      const Vec2 u2(rng.nextFloat(), rng.nextFloat());
+      const Spectrum fHero = hero.eval(wo, wi, TransportMode::Radiance);
+      const Spectrum fIgnored = spreadIgnored.eval(wo, wi, TransportMode::Radiance);
+      const Spectrum fUsed = spreadUsed.eval(wo, wi, TransportMode::Radiance);
+      const auto sHero = hero.sample(wo, uc, u2, TransportMode::Radiance);
+      const auto sIgnored = spreadIgnored.sample(wo, uc, u2, TransportMode::Radiance);
+      const auto sUsed = spreadUsed.sample(wo, uc, u2, TransportMode::Radiance);
+      ASSERT_EQ(sHero.has_value(), sIgnored.has_value());
+      for (int lane = 0; lane < kLanes; ++lane) {
+        ASSERT_EQ(fHero[lane], fIgnored[lane]) << "lane " << lane;
+        if (sHero) ASSERT_EQ(sHero->f[lane], sIgnored->f[lane]) << "lane " << lane;
+      }
+      ASSERT_EQ(fHero[0], fUsed[0]);  // the hero's own IOR is 1.5 either way
+      for (int lane = 1; lane < 4; ++lane) {
+        lanesThatDiffer += fUsed[lane] != fHero[lane];
+        if (sHero && sUsed && sUsed->wi == sHero->wi) lanesThatDiffer += sUsed->f[lane] != sHero->f[lane];
+      }
+    }
+    EXPECT_GT(lanesThatDiffer, 1000) << "etaVaries must give lanes their own IOR";
+  }
+}
+
 }  // namespace
 }  // namespace tex::render
