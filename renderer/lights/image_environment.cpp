@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include "renderer/core/warp.h"
 #include "renderer/lights/constant_environment.h"
 #include "renderer/spectra/rgb_spectrum.h"
@@ -28,17 +31,20 @@ ImageEnvironment::ImageEnvironment(const RgbImage& image, const Mat4& environmen
   const bool valid = width_ > 0 && height_ > 0 && image.rgb.size() >= size_t(width_) * size_t(height_) * 3;
   if (!valid) width_ = height_ = 1;  // an inconsistent image: one black pixel (the loader reports bad files)
   const size_t pixels = size_t(width_) * size_t(height_);
-  rgb_.resize(pixels * 3);
+  fitted_.resize(pixels);
   luminance_.resize(pixels);
-  for (size_t i = 0; i < pixels; ++i) {
-    Vec3 c;
-    for (int k = 0; k < 3; ++k) {
-      const float v = valid ? image.rgb[i * 3 + k] * scale : 0.0f;
-      c[k] = std::isfinite(v) && v > 0.0f ? v : 0.0f;  // negative or broken pixels emit nothing
-      rgb_[i * 3 + k] = c[k];
+  // Each pixel on its own: the result does not depend on the thread count.
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, pixels, 4096), [&](const tbb::blocked_range<size_t>& range) {
+    for (size_t i = range.begin(); i != range.end(); ++i) {
+      Vec3 c;
+      for (int k = 0; k < 3; ++k) {
+        const float v = valid ? image.rgb[i * 3 + k] * scale : 0.0f;
+        c[k] = std::isfinite(v) && v > 0.0f ? v : 0.0f;  // negative or broken pixels emit nothing
+      }
+      fitted_[i] = rgbToUnbounded(c);
+      luminance_[i] = std::max(0.0f, luminanceOf(c));
     }
-    luminance_[i] = std::max(0.0f, luminanceOf(c));
-  }
+  });
   std::vector<float> rowWeights(size_t(height_), 0.0f);
   columns_.reserve(size_t(height_));
   for (int y = 0; y < height_; ++y) {
@@ -61,9 +67,9 @@ float ImageEnvironment::pdfW(Pixel p) const {
   return luminanceIntegral_ > 0.0f ? luminance_[size_t(p.y) * size_t(width_) + size_t(p.x)] / luminanceIntegral_ : 0.0f;
 }
 
-Vec3 ImageEnvironment::rgb(Pixel p) const {
-  const size_t i = (size_t(p.y) * size_t(width_) + size_t(p.x)) * 3;
-  return Vec3(rgb_[i], rgb_[i + 1], rgb_[i + 2]);
+Spectrum ImageEnvironment::radiance(Pixel p, const Wavelengths& lambda) const {
+  // Bit for bit rgbIlluminantSpectrum(colour, lambda) (rgb_spectrum.h).
+  return illuminantSpectrum(fitted_[size_t(p.y) * size_t(width_) + size_t(p.x)], lambda);
 }
 
 bool ImageEnvironment::sampleDirection(Vec2 u, Vec3& wWorld, Pixel& pixel) const {
@@ -89,7 +95,7 @@ std::optional<LightLiSample> ImageEnvironment::sampleLi(const Vec3& refPoint, Ve
   if (!sampleDirection(u, s.wi, pixel)) return std::nullopt;
   s.pLight = refPoint + s.wi * (2.0f * sphere_.radius);
   s.distance = kInfinity;
-  s.L = rgbIlluminantSpectrum(rgb(pixel), lambda);
+  s.L = radiance(pixel, lambda);
   s.pdfW = pdfW(pixel);  // the sampled pixel's density (pdfLi looks the same pixel up)
   return s;
 }
@@ -107,7 +113,7 @@ std::optional<LightLeSample> ImageEnvironment::sampleLe(Vec2 uPos, Vec2 uDir, co
   LightLeSample s;
   s.ray = environmentEmittedRay(sphere_, wToLight, uPos);
   s.nLight = -wToLight;
-  s.L = rgbIlluminantSpectrum(rgb(pixel), lambda);
+  s.L = radiance(pixel, lambda);
   s.pdfPosA = environmentDiskPdfA(sphere_);
   s.pdfDirW = pdfW(pixel);
   return s;
@@ -120,7 +126,7 @@ void ImageEnvironment::pdfLe(const Ray& ray, const Vec3& nLight, float& pdfPosA,
 }
 
 Spectrum ImageEnvironment::Le(const Ray& ray, const Wavelengths& lambda) const {
-  return rgbIlluminantSpectrum(rgb(pixelOf(ray.direction)), lambda);
+  return radiance(pixelOf(ray.direction), lambda);
 }
 
 std::unique_ptr<ImageEnvironment> loadImageEnvironment(const std::string& path, const Mat4& environmentToWorld,

@@ -13,6 +13,7 @@
 #include "renderer/image/image_io.h"
 #include "renderer/lights/light.h"
 #include "renderer/lights/piecewise_constant.h"
+#include "renderer/spectra/rgb_spectrum.h"
 
 namespace tex::render {
 
@@ -39,12 +40,15 @@ class ImageEnvironment final : public Light {
   };
   Pixel pixelOf(const Vec3& wWorld) const;
   float pdfW(Pixel p) const;
-  Vec3 rgb(Pixel p) const;
+  // The pixel's radiance spectrum at the group's wavelengths (its colour fitted at load).
+  Spectrum radiance(Pixel p, const Wavelengths& lambda) const;
   // A direction toward the light (world space), its pixel, and its density; false if black.
   bool sampleDirection(Vec2 u, Vec3& wWorld, Pixel& pixel) const;
 
   int width_ = 0, height_ = 0;
-  std::vector<float> rgb_;        // clamped to >= 0, times scale
+  // Each pixel's colour (clamped to >= 0, times scale) fitted once as an unbounded sigmoid
+  // spectrum: the fit (rgbToUnbounded, a search of the RGB table) cost more than the lookup.
+  std::vector<RgbUnbounded> fitted_;
   std::vector<float> luminance_;  // per pixel
   glm::mat3 toWorld_{1.0f};
   PiecewiseConstant1D rows_;                  // weight: sum of luminance x (cos theta0 - cos theta1)

@@ -13,14 +13,34 @@ PiecewiseConstant1D::PiecewiseConstant1D(const std::vector<float>& weights) : we
     cdf_[i + 1] = cdf_[i] + double(w);
   }
   total_ = cdf_.back();
+  if (weights_.empty()) return;
+  const size_t intervals = (weights_.size() + 3) / 4;  // about four cells per guide entry
+  guide_.resize(intervals + 1);
+  for (size_t k = 0; k <= intervals; ++k) guide_[k] = searchWhole(double(k) / double(intervals) * total_);
+}
+
+// The number of upper CDF bounds at or below the target: the first cell whose upper bound
+// exceeds it (zero-weight cells have an empty interval, so they are skipped).
+int PiecewiseConstant1D::searchWhole(double target) const {
+  return int(std::upper_bound(cdf_.begin() + 1, cdf_.end(), target) - (cdf_.begin() + 1));
 }
 
 PiecewiseConstant1D::Sample PiecewiseConstant1D::sample(float u) const {
   const double target = double(u) * total_;
-  // The first cell whose upper CDF bound exceeds the target; zero-weight cells have an
-  // empty interval, so upper_bound skips them.
   const int n = size();
-  int i = int(std::upper_bound(cdf_.begin() + 1, cdf_.end(), target) - (cdf_.begin() + 1));
+  // The guide brackets the answer: at least lo when cdf_[lo] <= target, at most hi when
+  // target < cdf_[hi + 1]. Both hold: k = floor(u * intervals) is exact in double, so
+  // k / intervals <= u < (k + 1) / intervals, and rounding is monotonic. The check costs two
+  // compares and keeps the whole search's cell should that argument ever fail.
+  const int intervals = int(guide_.size()) - 1;
+  const int k = std::clamp(int(double(u) * double(intervals)), 0, intervals - 1);
+  const int lo = guide_[size_t(k)], hi = guide_[size_t(k) + 1];
+  int i;
+  if (cdf_[size_t(lo)] <= target && (hi >= n || target < cdf_[size_t(hi) + 1]))
+    i = lo + int(std::upper_bound(cdf_.begin() + 1 + lo, cdf_.begin() + 1 + std::min(hi, n), target) -
+                 (cdf_.begin() + 1 + lo));
+  else
+    i = searchWhole(target);
   i = std::min(i, n - 1);
   while (i > 0 && weights_[size_t(i)] == 0.0f) --i;  // u rounded to the end of the range
   while (i < n - 1 && weights_[size_t(i)] == 0.0f) ++i;

@@ -30,6 +30,11 @@ class PiecewiseConstant1D {
   std::vector<float> weights_;
   std::vector<double> cdf_;  // size + 1 entries, cdf_[0] = 0 (double: large maps sum many pixels)
   double total_ = 0;
+  // guide_[k]: the cell holding the fraction k / (guide size - 1) of the total, so that a
+  // sample searches only the cells between two guide entries (a few, instead of a binary
+  // search over the whole CDF) and finds the cell the whole search would.
+  std::vector<int> guide_;
+  int searchWhole(double target) const;
 };
 
 }  // namespace tex::render
