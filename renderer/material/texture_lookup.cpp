@@ -44,8 +44,34 @@ float srgbToLinearFast(float c) {
   return table[size_t(i)] + f * (table[size_t(i) + 1] - table[size_t(i)]);
 }
 
+// An 8-bit value decoded, as srgbToLinearFast(byte / 255) or byte / 255: the same floats the
+// float path computes from the same values, one load instead of the table interpolation.
+struct ByteTables {
+  float linear[256], srgb[256];
+  ByteTables() {
+    for (int b = 0; b < 256; ++b) {
+      linear[b] = float(b) / 255.0f;
+      srgb[b] = srgbToLinearFast(linear[b]);
+    }
+  }
+};
+
+Vec4 byteTexel(const ImageData& img, size_t index, bool srgb) {
+  static const ByteTables tables;
+  const uint8_t* px = &img.bytes[index];
+  const float* colour = srgb ? tables.srgb : tables.linear;  // alpha is never sRGB encoded
+  switch (img.channels) {
+    case 1: return Vec4(colour[px[0]], colour[px[0]], colour[px[0]], 1.0f);
+    case 2: return Vec4(colour[px[0]], colour[px[0]], colour[px[0]], tables.linear[px[1]]);
+    case 3: return Vec4(colour[px[0]], colour[px[1]], colour[px[2]], 1.0f);
+    default: return Vec4(colour[px[0]], colour[px[1]], colour[px[2]], tables.linear[px[3]]);
+  }
+}
+
 Vec4 texel(const ImageData& img, int x, int y, bool srgb) {
-  const float* px = &img.pixels[(size_t(y) * size_t(img.width) + size_t(x)) * size_t(img.channels)];
+  const size_t index = (size_t(y) * size_t(img.width) + size_t(x)) * size_t(img.channels);
+  if (!img.bytes.empty()) return byteTexel(img, index, srgb);
+  const float* px = &img.pixels[index];
   Vec4 c(1.0f);
   switch (img.channels) {
     case 1: c = Vec4(px[0], px[0], px[0], 1.0f); break;
@@ -68,7 +94,7 @@ Vec4 lookupTexture(const SceneDescription& scene, const TextureRef& ref, Vec2 uv
   if (ref.image < 0 || size_t(ref.image) >= scene.images.size()) return fallback;
   const ImageData& img = scene.images[size_t(ref.image)];
   if (img.width <= 0 || img.height <= 0 || img.channels <= 0 ||
-      img.pixels.size() < size_t(img.width) * size_t(img.height) * size_t(img.channels))
+      img.valueCount() < size_t(img.width) * size_t(img.height) * size_t(img.channels))
     return fallback;
   Vec2 uv = ref.texCoord == 1 ? uv1 : uv0;
   // KHR_texture_transform: translation * rotation * scale, rotation counter-clockwise in uv.

@@ -49,12 +49,11 @@ bool decodeGltfImage(tinygltf::Image* image, const int imageIndex, std::string* 
   } else {
     stbi_uc* pixels = stbi_load_from_memory(bytes, size, &width, &height, &channels, 0);
     if (pixels) {
-      out.pixels.resize(size_t(width) * size_t(height) * size_t(channels));
-      for (size_t i = 0; i < out.pixels.size(); ++i) out.pixels[i] = pixels[i] / 255.0f;
+      out.bytes.assign(pixels, pixels + size_t(width) * size_t(height) * size_t(channels));
       stbi_image_free(pixels);
     }
   }
-  if (out.pixels.empty()) {
+  if (out.valueCount() == 0) {
     const char* reason = stbi_failure_reason();
     decoded->failures[imageIndex] = std::string("it could not be decoded: ") + (reason ? reason : "unknown format");
     return true;

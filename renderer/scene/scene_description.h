@@ -34,12 +34,19 @@ struct SpectrumDesc {
 
 enum class WrapMode : uint8_t { Repeat, ClampToEdge, MirroredRepeat };
 
-// A decoded image, as floats, 1-4 channels, top row first. glTF colour textures are sRGB
-// encoded: the loader keeps the encoded values and `srgb` says how to decode them.
+// A decoded image, 1-4 channels, top row first, width * height * channels values in one of
+// two stores: 8-bit sources keep their bytes (value = byte / 255; a quarter of the memory, and
+// texture lookups decode a byte by table), others floats (16-bit sources: value in [0,1]).
+// glTF colour textures are sRGB encoded: the loader keeps the encoded values and the lookup's
+// `srgb` says how to decode them.
 struct ImageData {
   std::string name;
   int width = 0, height = 0, channels = 0;
-  std::vector<float> pixels;  // width * height * channels, values in [0,1] for 8/16-bit sources
+  std::vector<float> pixels;  // used when `bytes` is empty
+  std::vector<uint8_t> bytes;
+
+  size_t valueCount() const { return bytes.empty() ? pixels.size() : bytes.size(); }
+  float value(size_t i) const { return bytes.empty() ? pixels[i] : float(bytes[i]) / 255.0f; }
 };
 
 struct TextureRef {
