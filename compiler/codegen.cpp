@@ -678,13 +678,44 @@ class Codegen {
     return llvm::PoisonValue::get(lower(n->type));
   }
 
-  // A material node: filled in a zeroed ClosureNode on the stack (operands in the order of
-  // lang::ir::MaterialShape), then appended to the arena by tex_rt_closure_append.
+  // A material node, written straight into the caller's arena (docs/abi.md, "Materials"):
+  // the append is inline, so the node is not built on the stack and copied by a call (that
+  // copy had to read it back a word at a time to avoid store-forwarding stalls). Operands go
+  // into the fields in the order of lang::ir::MaterialShape over a zeroed node.
   llvm::Value* genMaterialNode(const Node* n, const std::vector<llvm::Value*>& a) {
     const lang::ir::MaterialShape& shape = *lang::ir::materialShape(n->prim);
-    llvm::AllocaInst* node = entryAlloca(llvm::ArrayType::get(i32_, sizeof(ClosureNode) / 4));
+    llvm::Type* i8 = b_.getInt8Ty();
+    const auto field = [&](llvm::Value* base, size_t byteOffset) {
+      return b_.CreateConstInBoundsGEP1_64(i8, base, uint64_t(byteOffset));
+    };
+    llvm::Function* fn = b_.GetInsertBlock()->getParent();
+    llvm::BasicBlock* haveCtx = llvm::BasicBlock::Create(context_, "closure.ctx", fn);
+    llvm::BasicBlock* haveArena = llvm::BasicBlock::Create(context_, "closure.arena", fn);
+    llvm::BasicBlock* full = llvm::BasicBlock::Create(context_, "closure.full", fn);
+    llvm::BasicBlock* write = llvm::BasicBlock::Create(context_, "closure.write", fn);
+    llvm::BasicBlock* done = llvm::BasicBlock::Create(context_, "closure.done", fn);
+    // No context or no arena: the Material is -1 and nothing is written.
+    llvm::BasicBlock* start = b_.GetInsertBlock();
+    b_.CreateCondBr(b_.CreateIsNotNull(ctx_), haveCtx, done, likely_);
+    b_.SetInsertPoint(haveCtx);
+    llvm::Value* arena = b_.CreateAlignedLoad(ptrTy_, field(ctx_, offsetof(ShadingContext, arena)), llvm::Align(8));
+    b_.CreateCondBr(b_.CreateIsNotNull(arena), haveArena, done, likely_);
+    b_.SetInsertPoint(haveArena);
+    llvm::Value* countPtr = field(arena, offsetof(ClosureArena, count));
+    llvm::Value* count = b_.CreateAlignedLoad(i32_, countPtr, llvm::Align(4));
+    llvm::Value* capacity = b_.CreateAlignedLoad(i32_, field(arena, offsetof(ClosureArena, capacity)), llvm::Align(4));
+    b_.CreateCondBr(b_.CreateICmpSLT(count, capacity), write, full, likely_);
+    // A full arena drops the node and marks the material invalid.
+    b_.SetInsertPoint(full);
+    b_.CreateAlignedStore(b_.getInt32(1), field(arena, offsetof(ClosureArena, overflow)), llvm::Align(4));
+    b_.CreateBr(done);
+
+    b_.SetInsertPoint(write);
+    llvm::Value* nodes = b_.CreateAlignedLoad(ptrTy_, field(arena, offsetof(ClosureArena, nodes)), llvm::Align(8));
+    llvm::Value* node = b_.CreateInBoundsGEP(
+        i8, nodes, b_.CreateMul(b_.CreateSExt(count, b_.getInt64Ty()), b_.getInt64(sizeof(ClosureNode))));
     b_.CreateMemSet(node, b_.getInt8(0), uint64_t(sizeof(ClosureNode)), llvm::MaybeAlign(4));
-    auto at = [&](size_t byteOffset) { return b_.CreateConstInBoundsGEP1_32(i32_, node, unsigned(byteOffset / 4)); };
+    auto at = [&](size_t byteOffset) { return field(node, byteOffset); };
     b_.CreateStore(b_.getInt32(shape.kind), at(offsetof(ClosureNode, kind)));
     size_t operand = 0;
     b_.CreateStore(shape.children > 0 ? a[operand++] : b_.getInt32(uint32_t(-1)), at(offsetof(ClosureNode, a)));
@@ -703,9 +734,16 @@ class Codegen {
       b_.CreateStore(a[operand++], at(offsetof(ClosureNode, scalars) + 4 * size_t(i)));
     if (shape.weight) b_.CreateStore(a[operand++], at(offsetof(ClosureNode, weight)));
     if (shape.params > 0) b_.CreateStore(b_.getInt32(dependence_.flags(dependenceContext_, n)), at(offsetof(ClosureNode, flags)));
-    llvm::FunctionCallee append = module_->getOrInsertFunction(
-        "tex_rt_closure_append", llvm::FunctionType::get(i32_, {ptrTy_, ptrTy_}, false));
-    return b_.CreateCall(append, {ctx_, node});
+    b_.CreateAlignedStore(b_.CreateAdd(count, b_.getInt32(1)), countPtr, llvm::Align(4));
+    b_.CreateBr(done);
+
+    b_.SetInsertPoint(done);
+    llvm::PHINode* index = b_.CreatePHI(i32_, 4, "closure.index");
+    index->addIncoming(b_.getInt32(uint32_t(-1)), start);
+    index->addIncoming(b_.getInt32(uint32_t(-1)), haveCtx);
+    index->addIncoming(b_.getInt32(uint32_t(-1)), full);
+    index->addIncoming(count, write);
+    return index;
   }
 
   llvm::FunctionCallee runtimeFunction(const char* name, llvm::Type* result, std::vector<llvm::Type*> params) {

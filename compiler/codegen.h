@@ -36,9 +36,6 @@ std::unique_ptr<llvm::Module> generateModule(llvm::LLVMContext& context, const l
                                              std::string& error);
 
 // The names of the runtime functions compiled code calls (bound as absolute symbols).
-// Appends a copy of `node` (a ClosureNode) to ctx->arena; returns its index, or -1 when there
-// is no arena or it is full (then overflow is set).
-extern "C" int32_t tex_rt_closure_append(const void* ctx, const void* node);
 // The handle of image `path` (a canonical path, NUL-terminated; `data` as image_data()), cached
 // in *cache (an int32 initialised to -1, one per image constant of a module).
 extern "C" int32_t tex_rt_image_handle(const char* path, int32_t data, int32_t* cache);

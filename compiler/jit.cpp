@@ -36,7 +36,7 @@ namespace tex::compiler {
 namespace {
 
 // Bump on every change to code generation: it is part of every cache key.
-constexpr const char* kCompilerVersion = "tex-compiler-17";
+constexpr const char* kCompilerVersion = "tex-compiler-18";
 
 std::string errorText(llvm::Error error) { return llvm::toString(std::move(error)); }
 
@@ -92,8 +92,6 @@ struct Engine {
     main.addGenerator(std::move(*process));
     llvm::orc::SymbolMap runtime;
     auto& es = jit->getExecutionSession();
-    runtime[es.intern("tex_rt_closure_append")] = {llvm::orc::ExecutorAddr::fromPtr(&tex_rt_closure_append),
-                                                   llvm::JITSymbolFlags::Exported | llvm::JITSymbolFlags::Callable};
     auto bind = [&](const char* name, auto* fn) {
       runtime[es.intern(name)] = {llvm::orc::ExecutorAddr::fromPtr(fn), llvm::JITSymbolFlags::Exported | llvm::JITSymbolFlags::Callable};
     };
