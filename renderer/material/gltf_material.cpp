@@ -58,6 +58,13 @@ Spectrum gltfEmission(const SceneDescription& scene, const GltfMaterial& m, cons
   return e == Vec3(0.0f) ? Spectrum() : rgbIlluminantSpectrum(e, lambda);
 }
 
+bool gltfReadsHit(const SceneDescription& scene, const GltfMaterial& m) {
+  for (const TextureRef* t : {&m.baseColorTexture, &m.metallicRoughnessTexture, &m.transmissionTexture,
+                              &m.emissiveTexture, &m.normalTexture})
+    if (textureHasImage(scene, *t)) return true;
+  return false;
+}
+
 void applyGltfNormalMap(const SceneDescription& scene, const GltfMaterial& m, const ShadingPoint& point, Bsdf& bsdf) {
   if (m.normalTexture.image < 0) return;
   Vec3 tangent;

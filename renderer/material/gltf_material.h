@@ -16,6 +16,10 @@ struct GltfInputs {
 };
 GltfInputs gltfInputs(const SceneDescription& scene, const GltfMaterial& material, const ShadingPoint& point);
 
+// Whether shading reads the point: some texture gltfInputs or the normal map looks up has an
+// image. Without one the inputs, and so the closure tree, are the same at every hit.
+bool gltfReadsHit(const SceneDescription& scene, const GltfMaterial& material);
+
 // Replaces the Bsdf's shading frame by the normal map's (no-op without a normal texture).
 void applyGltfNormalMap(const SceneDescription& scene, const GltfMaterial& material, const ShadingPoint& point,
                         Bsdf& bsdf);

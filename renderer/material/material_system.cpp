@@ -35,6 +35,9 @@ struct MaterialSystem::Impl {
   std::vector<int> bindingOfMaterial;
   std::vector<int> slotOfPrimitive;  // per primitive: the slot its hits shade with
   std::vector<uint8_t> emissive;       // per material slot
+  // Per material slot: an unbound glTF material that reads no texture (gltfReadsHit), so
+  // shade() may replay the path's earlier evaluation from the memo (material_memo.h).
+  std::vector<uint8_t> gltfHitIndependent;
   std::vector<float> averageEmission;  // per material slot
   // Per binding: its closure tree when constant (closure_lobes.h), else an empty tree.
   std::vector<ConstantClosure> constantClosures;
@@ -112,6 +115,10 @@ std::unique_ptr<MaterialSystem> MaterialSystem::create(const SceneDescription& s
     point.ng = point.ns = Vec3(0, 0, 1);
     captureConstantClosure(im.compiled.bindings[b], point, probe, im.constantClosures[b]);
   }
+  im.gltfHitIndependent.assign(slots, 0);
+  for (size_t m = 0; m < scene.materials.size(); ++m)
+    im.gltfHitIndependent[m] =
+        im.bindingOfMaterial[m] < 0 && im.gltfMaterial.hitIndependent && !gltfReadsHit(scene, scene.materials[m]);
   im.emissive.assign(slots, 0);
   im.averageEmission.assign(slots, 0.0f);
   // Probe each material on a 4 x 4 grid of uv (and positions) with a fixed wavelength group to
@@ -180,7 +187,17 @@ bool MaterialSystem::shade(int material, const ShadingPoint& point, const Wavele
     bsdf.add(grey);
     return true;
   }
-  // A glTF material: read its factors and textures here, scatter with std.gltf.
+  // A glTF material: read its factors and textures here, scatter with std.gltf. Without
+  // textures the evaluation depends on the wavelengths alone: replayed as above.
+  const bool memo = im.gltfHitIndependent[size_t(s)] && bsdf.lobeCount() == 0 && !bsdf.hasCoat();
+  if (memo) {
+    if (const MaterialMemoEntry* e = materialMemoFind(im.memoId, s, true, lambda)) {
+      bsdf.copyLobesFrom(e->bsdf);
+      emission = e->emission;
+      if (!e->ok) im.failures.fetch_add(1, std::memory_order_relaxed);
+      return e->ok;
+    }
+  }
   const GltfMaterial& m = *im.gltf(s);
   applyGltfNormalMap(*im.scene, m, point, bsdf);
   const GltfInputs in = gltfInputs(*im.scene, m, point);
@@ -192,9 +209,9 @@ bool MaterialSystem::shade(int material, const ShadingPoint& point, const Wavele
     im.failures.fetch_add(1, std::memory_order_relaxed);
     bsdf = Bsdf(bsdf.frame(), bsdf.geometricNormal());
     emission = Spectrum();
-    return false;
   }
-  return true;
+  if (memo) materialMemoStore(im.memoId, s, lambda, ev.ok, emission, &bsdf);
+  return ev.ok;
 }
 
 Spectrum MaterialSystem::emission(int material, const ShadingPoint& point, const Wavelengths& lambda) const {

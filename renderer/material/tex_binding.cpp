@@ -133,6 +133,7 @@ bool compileGltfMaterial(int wavelengths, bool quick, bool useCache, CompiledGlt
     return false;
   }
   out.entry = out.module->entry(fn);
+  out.hitIndependent = resultIgnoresParameter(session.program(), fn, 0);
   out.compileMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return true;
 }

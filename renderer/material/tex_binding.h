@@ -39,6 +39,7 @@ struct CompiledBindings {
 struct CompiledGltf {
   std::unique_ptr<compiler::CompiledModule> module;
   compiler::EntryFn entry = nullptr;
+  bool hitIndependent = false;  // std.gltf reads only its inputs, not the Hit (hit_dependence.h)
   double compileMs = 0;
 };
 inline constexpr int kGltfArgumentWords = 11;

@@ -89,13 +89,17 @@ Vec4 texel(const ImageData& img, int x, int y, bool srgb) {
 
 }  // namespace
 
+bool textureHasImage(const SceneDescription& scene, const TextureRef& ref) {
+  if (ref.image < 0 || size_t(ref.image) >= scene.images.size()) return false;
+  const ImageData& img = scene.images[size_t(ref.image)];
+  return img.width > 0 && img.height > 0 && img.channels > 0 &&
+         img.valueCount() >= size_t(img.width) * size_t(img.height) * size_t(img.channels);
+}
+
 Vec4 lookupTexture(const SceneDescription& scene, const TextureRef& ref, Vec2 uv0, Vec2 uv1, bool srgb,
                    const Vec4& fallback) {
-  if (ref.image < 0 || size_t(ref.image) >= scene.images.size()) return fallback;
+  if (!textureHasImage(scene, ref)) return fallback;
   const ImageData& img = scene.images[size_t(ref.image)];
-  if (img.width <= 0 || img.height <= 0 || img.channels <= 0 ||
-      img.valueCount() < size_t(img.width) * size_t(img.height) * size_t(img.channels))
-    return fallback;
   Vec2 uv = ref.texCoord == 1 ? uv1 : uv0;
   // KHR_texture_transform: translation * rotation * scale, rotation counter-clockwise in uv.
   if (ref.rotation != 0.0f || ref.scale != Vec2(1.0f) || ref.offset != Vec2(0.0f)) {

@@ -7,6 +7,9 @@
 
 namespace tex::render {
 
+// Whether a lookup of `ref` reads an image (else it returns its fallback).
+bool textureHasImage(const SceneDescription& scene, const TextureRef& ref);
+
 // RGBA at uv (channels missing from the image read as: grey for 1-2 channels, alpha 1).
 // Colour textures pass srgb = true (the alpha channel stays linear). Returns `fallback` when
 // the reference has no image.

@@ -8,6 +8,7 @@
 #include <cstring>
 
 #include "renderer/material/closure_lobes.h"
+#include "renderer/material/gltf_material.h"
 #include "renderer/material/material_system.h"
 #include "renderer/material/tex_binding.h"
 #include "tests/renderer/scene_fixtures.h"
@@ -182,6 +183,70 @@ TEST(MaterialMemo, SystemsDoNotShareEntries) {
   EXPECT_TRUE(sameLobes(fromA[0], fromA[1]));
   EXPECT_TRUE(sameLobes(fromB[0], fromB[1]));
   EXPECT_FALSE(sameLobes(fromA[1], fromB[1]));
+}
+
+// Unbound glTF materials (std.gltf) replay from the memo when they read no texture: the
+// replay equals a fresh evaluation bit for bit, and a textured material is never replayed
+// across points (its two texels give different lobes).
+TEST(MaterialMemo, GltfMaterialsWithoutTexturesReplayAndTexturedOnesDoNot) {
+  SceneDescription scene;
+  ImageData image;
+  image.width = 2;
+  image.height = 1;
+  image.channels = 3;
+  image.bytes = {230, 40, 20, 20, 60, 220};  // red, then blue
+  scene.images.push_back(image);
+  GltfMaterial plastic, metal, glass, textured, brokenTexture;
+  plastic.baseColorFactor = Vec4(0.8f, 0.3f, 0.2f, 1.0f);
+  plastic.metallicFactor = 0.0f;
+  plastic.roughnessFactor = 0.5f;
+  metal.metallicFactor = 1.0f;
+  metal.roughnessFactor = 0.2f;
+  glass.metallicFactor = 0.0f;
+  glass.transmissionFactor = 1.0f;
+  glass.dispersion = 0.5f;
+  glass.emissiveFactor = Vec3(0.5f);
+  textured = plastic;
+  textured.baseColorTexture.image = 0;
+  textured.baseColorTexture.wrapS = textured.baseColorTexture.wrapT = WrapMode::ClampToEdge;
+  brokenTexture = plastic;
+  brokenTexture.baseColorTexture.image = 7;  // no such image: the factor alone, as without one
+  scene.materials = {plastic, metal, glass, textured, brokenTexture};
+  EXPECT_FALSE(gltfReadsHit(scene, plastic));
+  EXPECT_FALSE(gltfReadsHit(scene, brokenTexture));
+  EXPECT_TRUE(gltfReadsHit(scene, textured));
+
+  std::string error;
+  const std::unique_ptr<MaterialSystem> materials = MaterialSystem::create(scene, MaterialOptions{}, error);
+  ASSERT_TRUE(materials) << error;
+  CompiledGltf direct;
+  ASSERT_TRUE(compileGltfMaterial(4, false, false, direct, error)) << error;
+  EXPECT_TRUE(direct.hitIndependent);  // std.gltf reads only its inputs
+  const Wavelengths groups[2] = {color::sampleWavelengthGroup(0.3f, 4), color::sampleWavelengthGroup(0.7f, 4)};
+  const ShadingPoint points[2] = {pointAt(0.25f, 0.5f, 0.1f), pointAt(0.75f, 0.5f, 0.9f)};
+  int texturedDifferences = 0;
+  for (int round = 0; round < 3; ++round) {
+    const Wavelengths& lambda = groups[round % 2];
+    for (size_t m = 0; m < scene.materials.size(); ++m) {
+      Bsdf first;
+      for (const ShadingPoint& p : points) {
+        Bsdf viaSystem(Frame(), Vec3(0, 0, 1)), fresh(Frame(), Vec3(0, 0, 1));
+        Spectrum eSystem, eFresh;
+        ASSERT_TRUE(materials->shade(int(m), p, lambda, viaSystem, eSystem));
+        const GltfInputs in = gltfInputs(scene, scene.materials[m], p);
+        const float args[kGltfArgumentWords] = {in.baseColor.x, in.baseColor.y, in.baseColor.z, in.metallic, in.roughness,
+                                                in.transmission, in.ior, in.dispersion, in.emission.x, in.emission.y,
+                                                in.emission.z};
+        ASSERT_TRUE(evaluateEntry(direct.entry, args, kGltfArgumentWords, p, lambda, &fresh, eFresh).ok);
+        EXPECT_TRUE(sameLobeParameters(viaSystem, fresh)) << "material " << m << " round " << round;
+        EXPECT_EQ(viaSystem.hasCoat(), fresh.hasCoat());
+        EXPECT_TRUE(sameBits(eSystem, eFresh)) << "material " << m << " round " << round;
+        if (&p == &points[0]) first.copyLobesFrom(fresh);
+        else if (m == 3 && !sameLobeParameters(first, fresh)) ++texturedDifferences;
+      }
+    }
+  }
+  EXPECT_EQ(texturedDifferences, 3);  // so a stale replay of the textured material would be caught
 }
 
 }  // namespace
