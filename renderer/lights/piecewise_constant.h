@@ -18,10 +18,13 @@ class PiecewiseConstant1D {
   // Probability of cell i (0 when every weight is 0).
   float pmf(int i) const { return total_ > 0 ? float(weights_[size_t(i)] / total_) : 0.0f; }
 
+  // The floats first: returned in registers, {pmf, residual} is one SSE register and index
+  // another; in the order {index, pmf, residual} GCC assembled it on the stack and read it back
+  // with a load spanning two narrower stores (a store-forwarding stall on every sample).
   struct Sample {
-    int index = 0;
     float pmf = 0;
     float residual = 0;  // where u fell inside the cell, in [0,1): a fresh uniform number
+    int index = 0;
   };
   // Never returns a zero-weight cell; requires total() > 0.
   Sample sample(float u) const;
