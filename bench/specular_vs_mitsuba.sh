@@ -1,0 +1,113 @@
+#!/usr/bin/env bash
+# Specular transport, tex against Mitsuba 3 (bench/README.md, "Specular spheres against Mitsuba 3"):
+# Mitsuba's mi.cornell_box() with its boxes replaced by a smooth glass sphere (IOR 1.5), a smooth
+# conductor sphere (constant complex IOR 0.2 + 3.0i) and a small smooth glass sphere of IOR 1.33,
+# rendered by both: tex from scenes/specular-mitsuba.json, Mitsuba by bench/mitsuba_specular.py
+# from the same triangle meshes (scenes/specular_spheres.gltf + .bin; bench/gen_specular_spheres.py).
+# 256x256, box pixel filter on both sides, spectral (4 wavelengths per path on both), Mitsuba
+# max_depth 8 = tex max_depth 7, Russian roulette after 5 scattering events on both.
+#
+# For each shading mode (SHADINGS: the spheres' smooth vertex normals and flat face normals) it
+# renders tex at SPP and Mitsuba's scalar_spectral and llvm_ad_spectral at SPP in 16 passes (their
+# spread gives Mitsuba's images variance channels), then prints
+#   - tex compare (RMSE, per-pixel Z-test) for tex / llvm, tex / scalar and llvm / scalar (the
+#     noise-only control),
+#   - image and region means per channel with standard errors, the ratios tex / Mitsuba and their
+#     deviations in sigma, for the whole image, each sphere's pixels, the floor around the glass
+#     sphere's caustic and the rest,
+#   - the per-pixel Z-test (mean z^2, fraction of |z| > 3) per region and pair,
+# and exits 1 when they disagree: a region mean of a tex pair off by more than the Sidak bound
+# (family-wise false alarms 1 %), or a tex pair's Z-test clearly worse than the control's
+# (bench/mitsuba_specular.py, analyse). Default run: about 8 minutes on 2 cores.
+#
+# Environment (all optional):
+#   TEX       tex binary to use (default: build with `bash .ci/build`, use build/bin/tex)
+#   VENV      Python venv with mitsuba + numpy (default build/bench-venv; created if missing)
+#   OUT       output folder (default build/bench-specular)
+#   SPP       samples per pixel of every image (default 1024; a multiple of 16)
+#   THREADS   threads (default 2)
+#   SHADINGS  shading modes to check (default "smooth flat")
+set -euo pipefail
+cd "$(dirname "$0")/.."
+SCENE=scenes/specular-mitsuba.json
+THREADS=${THREADS:-2}
+SPP=${SPP:-1024}
+OUT=${OUT:-build/bench-specular}
+VENV=${VENV:-build/bench-venv}
+SHADINGS=${SHADINGS:-smooth flat}
+mkdir -p "$OUT"
+(( SPP % 16 == 0 )) || { echo "SPP must be a multiple of 16" >&2; exit 2; }
+
+# --- tex -----------------------------------------------------------------------------
+if [[ -z "${TEX:-}" ]]; then
+  echo "== building tex (bash .ci/build)"
+  bash .ci/build
+  TEX=build/bin/tex
+fi
+[[ -x "$TEX" ]] || { echo "no tex binary at $TEX" >&2; exit 1; }
+
+# --- Mitsuba 3 in a venv (idempotent) ------------------------------------------------
+if [[ ! -x "$VENV/bin/python" ]]; then
+  echo "== creating $VENV"
+  python3 -m venv "$VENV"
+fi
+if ! "$VENV/bin/python" -c 'import mitsuba, numpy' 2>/dev/null; then
+  echo "== installing mitsuba and numpy into $VENV"
+  "$VENV/bin/pip" install --quiet mitsuba numpy
+fi
+PY="$VENV/bin/python"
+
+# The meshes both renderers read must be what the generator writes.
+"$PY" bench/gen_specular_spheres.py --check >/dev/null
+
+MI_DEPTH=8              # Mitsuba: path vertices after the camera
+TEX_DEPTH=$((MI_DEPTH - 1))  # tex: scattering events (scenes/cornell-box-mitsuba.json, _comment)
+RR_DEPTH=5
+TEX_FLAGS=(--res 256x256 --threads "$THREADS" --wavelengths 4 --max-depth "$TEX_DEPTH" --roulette-depth "$RR_DEPTH"
+           --filter box --spp "$SPP" -q)
+MI=("$PY" bench/mitsuba_specular.py --spp "$SPP" --pass-spp $((SPP / 16)) --threads "$THREADS" --max-depth "$MI_DEPTH"
+    --rr-depth "$RR_DEPTH")
+
+echo "== machine: $(nproc) cores, load average $(cut -d' ' -f1-3 /proc/loadavg); $("$PY" -c 'import mitsuba; print("mitsuba", mitsuba.__version__)')"
+status=0
+summary=()
+for shading in $SHADINGS; do
+  case $shading in
+    smooth) scene=$SCENE ;;
+    flat)   scene=$OUT/specular-mitsuba-flat.json
+            # The same scene with the normal-less glTF (paths relative to scenes/).
+            sed -e 's#"specular_spheres.gltf"#"'"$PWD"'/scenes/specular_spheres_flat.gltf"#' \
+                -e 's#"specular_mitsuba.tex"#"'"$PWD"'/scenes/specular_mitsuba.tex"#' "$SCENE" >"$scene" ;;
+    *) echo "unknown shading $shading (smooth, flat)" >&2; exit 2 ;;
+  esac
+  dir=$OUT/$shading
+  mkdir -p "$dir"
+  # Different seeds for the two modes, so that their images are independent samples (the rooms
+  # are nearly the same image: with one seed their errors there would be the same).
+  mode=$([[ $shading == smooth ]] && echo 1 || echo 2)
+  echo "== $shading shading: 256x256, $SPP spp each, box filter, $THREADS threads"
+  SECONDS=0
+  "$TEX" render "$scene" -o "$dir/tex.exr" -o "$dir/tex.png" "${TEX_FLAGS[@]}" --seed "$mode" | sed 's/^/   /'
+  echo "   ($SECONDS s)"
+  for v in scalar_spectral llvm_ad_spectral; do
+    SECONDS=0
+    seed=$(( ($([[ $v == scalar_spectral ]] && echo 1 || echo 2) + 2 * mode) * 1000 ))
+    "${MI[@]}" --variant "$v" --shading "$shading" --seed "$seed" -o "$dir/mitsuba_$v.exr" | grep -v '^RESULT' | sed 's/^/   /'
+    echo "   ($SECONDS s)"
+  done
+  for pair in "tex.exr mitsuba_llvm_ad_spectral.exr" "tex.exr mitsuba_scalar_spectral.exr" \
+              "mitsuba_llvm_ad_spectral.exr mitsuba_scalar_spectral.exr"; do
+    set -- $pair
+    echo "   tex compare $1 $2:"
+    "$TEX" compare --json "$dir/$1" "$dir/$2" | sed 's/^/     /'
+  done
+  if "$PY" bench/mitsuba_specular.py analyse "$dir/tex.exr" "$dir/mitsuba_scalar_spectral.exr" \
+       "$dir/mitsuba_llvm_ad_spectral.exr" --masks-out "$dir/regions.png"; then
+    summary+=("$shading: agree")
+  else
+    summary+=("$shading: DISAGREE")
+    status=1
+  fi
+done
+echo "== images in $OUT; verdict: ${summary[*]}"
+exit $status
