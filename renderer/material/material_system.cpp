@@ -62,6 +62,17 @@ bool evaluate(const MaterialSystem::Impl& im, int s, const ShadingPoint& point, 
   return evaluateBinding(im.compiled.bindings[b], point, lambda, bsdf, emission).ok;
 }
 
+// A glTF material: its factors and textures read here, its scattering from std.gltf.
+bool evaluateGltf(const MaterialSystem::Impl& im, const GltfMaterial& m, const ShadingPoint& point,
+                  const Wavelengths& lambda, Bsdf& bsdf, Spectrum& emission) {
+  applyGltfNormalMap(*im.scene, m, point, bsdf);
+  const GltfInputs in = gltfInputs(*im.scene, m, point);
+  const float args[kGltfArgumentWords] = {in.baseColor.x, in.baseColor.y, in.baseColor.z, in.metallic, in.roughness,
+                                          in.transmission, in.ior, in.dispersion, in.emission.x, in.emission.y,
+                                          in.emission.z};
+  return evaluateEntry(im.gltfMaterial.entry, args, kGltfArgumentWords, point, lambda, &bsdf, emission).ok;
+}
+
 }  // namespace
 
 MaterialSystem::~MaterialSystem() = default;
@@ -158,38 +169,20 @@ bool MaterialSystem::shade(int material, const ShadingPoint& point, const Wavele
   const Impl& im = *impl_;
   const int s = im.slot(material);
   emission = Spectrum();
-  if (im.bindingOfMaterial[size_t(s)] >= 0) {
-    const CompiledBinding& binding = im.compiled.bindings[size_t(im.bindingOfMaterial[size_t(s)])];
-    // A Hit-independent material replays this path's earlier evaluation (material_memo.h);
-    // only onto an empty Bsdf, where the replay equals evaluating.
-    const bool memo = binding.hitIndependent && bsdf.lobeCount() == 0 && !bsdf.hasCoat();
-    if (memo) {
-      if (const MaterialMemoEntry* e = materialMemoFind(im.memoId, s, true, lambda)) {
-        bsdf.copyLobesFrom(e->bsdf);
-        emission = e->emission;
-        if (!e->ok) im.failures.fetch_add(1, std::memory_order_relaxed);
-        return e->ok;
-      }
-    }
-    const bool ok = evaluate(im, s, point, lambda, &bsdf, emission);
-    if (!ok) {
-      im.failures.fetch_add(1, std::memory_order_relaxed);
-      bsdf = Bsdf(bsdf.frame(), bsdf.geometricNormal());
-      emission = Spectrum();
-    }
-    if (memo) materialMemoStore(im.memoId, s, lambda, ok, emission, &bsdf);
-    return ok;
-  }
-  if (!im.gltf(s)) {
+  const int binding = im.bindingOfMaterial[size_t(s)];
+  if (binding < 0 && !im.gltf(s)) {
     Lobe grey;
     grey.kind = LobeKind::Lambertian;
     grey.weight = Spectrum(0.8f);
     bsdf.add(grey);
     return true;
   }
-  // A glTF material: read its factors and textures here, scatter with std.gltf. Without
-  // textures the evaluation depends on the wavelengths alone: replayed as above.
-  const bool memo = im.gltfHitIndependent[size_t(s)] && bsdf.lobeCount() == 0 && !bsdf.hasCoat();
+  // A material whose evaluation depends on the wavelengths alone (a Hit-independent .tex
+  // binding, a glTF material without textures) replays this path's earlier evaluation
+  // (material_memo.h); only onto an empty Bsdf, where the replay equals evaluating.
+  const bool hitIndependent =
+      binding >= 0 ? im.compiled.bindings[size_t(binding)].hitIndependent : im.gltfHitIndependent[size_t(s)] != 0;
+  const bool memo = hitIndependent && bsdf.lobeCount() == 0 && !bsdf.hasCoat();
   if (memo) {
     if (const MaterialMemoEntry* e = materialMemoFind(im.memoId, s, true, lambda)) {
       bsdf.copyLobesFrom(e->bsdf);
@@ -198,20 +191,15 @@ bool MaterialSystem::shade(int material, const ShadingPoint& point, const Wavele
       return e->ok;
     }
   }
-  const GltfMaterial& m = *im.gltf(s);
-  applyGltfNormalMap(*im.scene, m, point, bsdf);
-  const GltfInputs in = gltfInputs(*im.scene, m, point);
-  const float args[kGltfArgumentWords] = {in.baseColor.x, in.baseColor.y, in.baseColor.z, in.metallic, in.roughness,
-                                          in.transmission, in.ior, in.dispersion, in.emission.x, in.emission.y,
-                                          in.emission.z};
-  const ClosureEvaluation ev = evaluateEntry(im.gltfMaterial.entry, args, kGltfArgumentWords, point, lambda, &bsdf, emission);
-  if (!ev.ok) {
+  const bool ok = binding >= 0 ? evaluate(im, s, point, lambda, &bsdf, emission)
+                               : evaluateGltf(im, *im.gltf(s), point, lambda, bsdf, emission);
+  if (!ok) {
     im.failures.fetch_add(1, std::memory_order_relaxed);
     bsdf = Bsdf(bsdf.frame(), bsdf.geometricNormal());
     emission = Spectrum();
   }
-  if (memo) materialMemoStore(im.memoId, s, lambda, ev.ok, emission, &bsdf);
-  return ev.ok;
+  if (memo) materialMemoStore(im.memoId, s, lambda, ok, emission, &bsdf);
+  return ok;
 }
 
 Spectrum MaterialSystem::emission(int material, const ShadingPoint& point, const Wavelengths& lambda) const {
