@@ -40,24 +40,8 @@ OUT=${OUT:-build/bench-cornell}
 VENV=${VENV:-build/bench-venv}
 mkdir -p "$OUT"
 
-# --- tex -----------------------------------------------------------------------------
-if [[ -z "${TEX:-}" ]]; then
-  echo "== building tex (bash .ci/build)"
-  bash .ci/build
-  TEX=build/bin/tex
-fi
-[[ -x "$TEX" ]] || { echo "no tex binary at $TEX" >&2; exit 1; }
-
-# --- Mitsuba 3 in a venv (idempotent) ------------------------------------------------
-if [[ ! -x "$VENV/bin/python" ]]; then
-  echo "== creating $VENV"
-  python3 -m venv "$VENV"
-fi
-if ! "$VENV/bin/python" -c 'import mitsuba, numpy' 2>/dev/null; then
-  echo "== installing mitsuba and numpy into $VENV"
-  "$VENV/bin/pip" install --quiet mitsuba numpy
-fi
-PY="$VENV/bin/python"
+# --- tex and Mitsuba 3 (a venv, idempotent) -----------------------------------------
+source bench/mitsuba_env.sh
 
 # Mitsuba's max_depth counts path vertices after the camera (1 = emitters seen directly),
 # tex's counts scattering events (0 = emitters seen directly): 8 there is 7 here.

@@ -29,7 +29,7 @@ import tempfile
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from mitsuba_cornell import find_libllvm  # noqa: E402
+from mitsuba_common import Passes, add_render_arguments, pass_count, start_mitsuba  # noqa: E402
 
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
 
@@ -99,29 +99,11 @@ def write_ply(path, pos, nrm, idx, vertex_count, face_count):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--variant", default="scalar_spectral", help="Mitsuba variant (scalar_spectral, llvm_ad_spectral, ...)")
-    ap.add_argument("--spp", type=int, default=64, help="samples per pixel (total over all passes)")
-    ap.add_argument("--pass-spp", type=int, default=0, help="spp per pass (default: all in one pass)")
-    ap.add_argument("--threads", type=int, default=2, help="worker threads")
-    ap.add_argument("--seed", type=int, default=0, help="seed of the first pass (pass i uses seed + i)")
-    ap.add_argument("--max-depth", type=int, default=8, help="Mitsuba max_depth (default 8, as mi.cornell_box())")
-    ap.add_argument("--rr-depth", type=int, default=5, help="Mitsuba rr_depth (default 5, the path integrator's default)")
+    add_render_arguments(ap)
     ap.add_argument("--shading", choices=("smooth", "flat"), default="smooth",
                     help="smooth: the spheres' vertex normals (default); flat: face normals")
-    ap.add_argument("-o", "--output", default="", help="EXR to write (optional)")
     args = ap.parse_args()
-
-    if args.variant.startswith("llvm"):
-        find_libllvm()
-    import drjit as dr
-    import mitsuba as mi
-    import numpy as np
-
-    mi.set_variant(args.variant)
-    mi.set_log_level(mi.LogLevel.Warn)
-    dr.set_thread_count(args.threads)
-    if hasattr(mi.Thread, "set_thread_count"):
-        mi.Thread.set_thread_count(args.threads)
+    dr, mi, np = start_mitsuba(args)
 
     desc = mi.cornell_box()
     desc["integrator"]["max_depth"] = args.max_depth
@@ -147,41 +129,19 @@ def main():
     scene = mi.load_dict(desc)
     load_s = time.perf_counter() - t0
 
-    pass_spp = args.pass_spp if args.pass_spp > 0 else args.spp
-    if args.spp % pass_spp:
-        sys.exit("--spp must be a multiple of --pass-spp")
-    passes = args.spp // pass_spp
-
-    total = None
-    total_sq = None
-    t0 = time.perf_counter()
-    for i in range(passes):
-        img = np.array(mi.render(scene, spp=pass_spp, seed=args.seed + i), dtype=np.float64)
-        total = img if total is None else total + img
-        sq = img * img
-        total_sq = sq if total_sq is None else total_sq + sq
-    seconds = time.perf_counter() - t0
-
-    mean = total / passes
+    pass_spp, _ = pass_count(args)
+    passes = Passes(mi, np, scene, args)
+    mean, seconds = passes.mean, passes.seconds
     paths_per_s = width * height * args.spp / seconds
     print(f"mitsuba {mi.__version__} {args.variant}: {width}x{height}, {args.spp} spp "
-          f"({passes} pass(es) of {pass_spp}), max_depth {args.max_depth}, rr_depth {args.rr_depth}, "
+          f"({passes.count} pass(es) of {pass_spp}), max_depth {args.max_depth}, rr_depth {args.rr_depth}, "
           f"{args.threads} threads, {args.shading} shading: {seconds:.1f} s (+ scene load {load_s:.2f} s), "
           f"{paths_per_s / 1e6:.3f} M paths/s; "
           f"mean RGB {mean[..., 0].mean():.5f} {mean[..., 1].mean():.5f} {mean[..., 2].mean():.5f}")
     print(f"RESULT variant={args.variant} spp={args.spp} threads={args.threads} seconds={seconds:.4f} "
           f"paths_per_s={paths_per_s:.1f}")
-
     if args.output:
-        channels = [mean[..., 0], mean[..., 1], mean[..., 2]]
-        names = ["R", "G", "B"]
-        if passes >= 2:
-            var_pass = np.maximum(total_sq / passes - mean * mean, 0.0) * passes / (passes - 1)
-            channels += [var_pass[..., k] / passes for k in range(3)]
-            names += ["variance.R", "variance.G", "variance.B"]
-        data = np.ascontiguousarray(np.stack(channels, axis=-1).astype(np.float32))
-        mi.Bitmap(data, mi.Bitmap.PixelFormat.MultiChannel, names).write(args.output)
-
+        passes.write_exr(mi, np, args.output)
 
 
 # ---------------------------------------------------------------------------------------------

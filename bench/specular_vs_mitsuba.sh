@@ -38,24 +38,8 @@ SHADINGS=${SHADINGS:-smooth flat}
 mkdir -p "$OUT"
 (( SPP % 16 == 0 )) || { echo "SPP must be a multiple of 16" >&2; exit 2; }
 
-# --- tex -----------------------------------------------------------------------------
-if [[ -z "${TEX:-}" ]]; then
-  echo "== building tex (bash .ci/build)"
-  bash .ci/build
-  TEX=build/bin/tex
-fi
-[[ -x "$TEX" ]] || { echo "no tex binary at $TEX" >&2; exit 1; }
-
-# --- Mitsuba 3 in a venv (idempotent) ------------------------------------------------
-if [[ ! -x "$VENV/bin/python" ]]; then
-  echo "== creating $VENV"
-  python3 -m venv "$VENV"
-fi
-if ! "$VENV/bin/python" -c 'import mitsuba, numpy' 2>/dev/null; then
-  echo "== installing mitsuba and numpy into $VENV"
-  "$VENV/bin/pip" install --quiet mitsuba numpy
-fi
-PY="$VENV/bin/python"
+# --- tex and Mitsuba 3 (a venv, idempotent) -----------------------------------------
+source bench/mitsuba_env.sh
 
 # The meshes both renderers read must be what the generator writes.
 "$PY" bench/gen_specular_spheres.py --check >/dev/null
