@@ -112,12 +112,8 @@ for v in scalar_spectral llvm_ad_spectral; do
   $MI --variant "$v" --spp "$SPP_CMP" --pass-spp "$PASS_SPP" --threads "$THREADS" --max-depth "$MI_DEPTH" \
     --seed 1000 $([[ $FILTER_CMP == box ]] && echo --box-filter) -o "$OUT/mitsuba_$v.exr" 2>&1 | grep -v '^RESULT' | sed 's/^/   /'
 done
-for pair in "tex.exr mitsuba_scalar_spectral.exr" "tex.exr mitsuba_llvm_ad_spectral.exr" \
-            "mitsuba_llvm_ad_spectral.exr mitsuba_scalar_spectral.exr"; do
-  set -- $pair
-  echo "   tex compare $1 $2:"
-  "$TEX" compare --json "$OUT/$1" "$OUT/$2" | sed 's/^/     /'
-done
+compare_pairs "$OUT" "tex.exr mitsuba_scalar_spectral.exr" "tex.exr mitsuba_llvm_ad_spectral.exr" \
+  "mitsuba_llvm_ad_spectral.exr mitsuba_scalar_spectral.exr"
 
 # Image means per channel, their standard errors (from the variance channels; neighbouring
 # pixels share samples through the filter, so these are a little optimistic) and ratios.

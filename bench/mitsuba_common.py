@@ -54,6 +54,14 @@ def start_mitsuba(args):
     return dr, mi, np
 
 
+def load_scene(mi, desc):
+    """mi.load_dict(desc), timed: (scene, film width, film height, seconds)."""
+    film = desc["sensor"]["film"]
+    t0 = time.perf_counter()
+    scene = mi.load_dict(desc)
+    return scene, film["width"], film["height"], time.perf_counter() - t0
+
+
 def pass_count(args):
     pass_spp = args.pass_spp if args.pass_spp > 0 else args.spp
     if args.spp % pass_spp:

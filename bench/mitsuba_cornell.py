@@ -23,7 +23,7 @@ import sys
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from mitsuba_common import Passes, add_render_arguments, pass_count, start_mitsuba  # noqa: E402
+from mitsuba_common import Passes, add_render_arguments, load_scene, pass_count, start_mitsuba  # noqa: E402
 
 
 def main():
@@ -38,12 +38,7 @@ def main():
     desc["integrator"]["rr_depth"] = args.rr_depth
     if args.box_filter:
         desc["sensor"]["film"]["rfilter"] = {"type": "box"}
-    film = desc["sensor"]["film"]
-    width, height = film["width"], film["height"]
-
-    t0 = time.perf_counter()
-    scene = mi.load_dict(desc)
-    load_s = time.perf_counter() - t0
+    scene, width, height, load_s = load_scene(mi, desc)
 
     # Warm-up: same settings as a timed pass (so the llvm kernels are compiled), another seed.
     pass_spp, _ = pass_count(args)

@@ -1,7 +1,7 @@
 # Sourced by the scripts that run tex beside Mitsuba 3 (cornell_vs_mitsuba.sh,
 # specular_vs_mitsuba.sh), from the repository's root: sets TEX (building tex with .ci/build
 # unless TEX names a binary) and PY (the Python of VENV, a venv with mitsuba and numpy, created
-# and filled if missing; idempotent).
+# and filled if missing; idempotent), and defines compare_pairs.
 if [[ -z "${TEX:-}" ]]; then
   echo "== building tex (bash .ci/build)"
   bash .ci/build
@@ -18,3 +18,14 @@ if ! "$VENV/bin/python" -c 'import mitsuba, numpy' 2>/dev/null; then
   "$VENV/bin/pip" install --quiet mitsuba numpy
 fi
 PY="$VENV/bin/python"
+
+# compare_pairs DIR "A.exr B.exr" ...: tex compare --json of each pair of images in DIR.
+compare_pairs() {
+  local dir=$1 pair
+  shift
+  for pair in "$@"; do
+    set -- $pair
+    echo "   tex compare $1 $2:"
+    "$TEX" compare --json "$dir/$1" "$dir/$2" | sed 's/^/     /'
+  done
+}

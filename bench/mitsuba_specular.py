@@ -26,10 +26,9 @@ import os
 import struct
 import sys
 import tempfile
-import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from mitsuba_common import Passes, add_render_arguments, pass_count, start_mitsuba  # noqa: E402
+from mitsuba_common import Passes, add_render_arguments, load_scene, pass_count, start_mitsuba  # noqa: E402
 
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
 
@@ -122,12 +121,7 @@ def main():
                                   "bsdf": dict(BSDFS[name])}
         if name in EMITTERS:
             desc["sphere-" + name]["emitter"] = dict(EMITTERS[name])
-    film = desc["sensor"]["film"]
-    width, height = film["width"], film["height"]
-
-    t0 = time.perf_counter()
-    scene = mi.load_dict(desc)
-    load_s = time.perf_counter() - t0
+    scene, width, height, load_s = load_scene(mi, desc)
 
     pass_spp, _ = pass_count(args)
     passes = Passes(mi, np, scene, args)

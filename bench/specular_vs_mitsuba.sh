@@ -79,12 +79,8 @@ for shading in $SHADINGS; do
     "${MI[@]}" --variant "$v" --shading "$shading" --seed "$seed" -o "$dir/mitsuba_$v.exr" | grep -v '^RESULT' | sed 's/^/   /'
     echo "   ($SECONDS s)"
   done
-  for pair in "tex.exr mitsuba_llvm_ad_spectral.exr" "tex.exr mitsuba_scalar_spectral.exr" \
-              "mitsuba_llvm_ad_spectral.exr mitsuba_scalar_spectral.exr"; do
-    set -- $pair
-    echo "   tex compare $1 $2:"
-    "$TEX" compare --json "$dir/$1" "$dir/$2" | sed 's/^/     /'
-  done
+  compare_pairs "$dir" "tex.exr mitsuba_llvm_ad_spectral.exr" "tex.exr mitsuba_scalar_spectral.exr" \
+    "mitsuba_llvm_ad_spectral.exr mitsuba_scalar_spectral.exr"
   if "$PY" bench/mitsuba_specular.py analyse "$dir/tex.exr" "$dir/mitsuba_scalar_spectral.exr" \
        "$dir/mitsuba_llvm_ad_spectral.exr" --masks-out "$dir/regions.png"; then
     summary+=("$shading: agree")
