@@ -13,15 +13,24 @@ namespace {
 
 bool degenerate(const Vec3& w) { return !(std::fabs(w.z) >= kMinCosTheta); }  // also NaN
 
-// sheen::boundedAverageAlbedo sums the table's 95 cells: remembered per thread, since a path
-// vertex evaluates the same lobe several times (NEE, BSDF sample, MIS).
+// sheen::boundedAverageAlbedo sums the table's 95 cells (about 200 exp calls): remembered per
+// thread for the last few roughnesses, since a path vertex evaluates the same lobe several
+// times (NEE, BSDF sample, MIS) and a scene's paths alternate between a few sheen materials
+// (one remembered value thrashed between them: exp was 9 % of velvet.json).
 double averageBoundedAlbedo(double alpha) {
-  thread_local double lastAlpha = -1.0, lastAverage = 0.0;
-  if (alpha != lastAlpha) {
-    lastAverage = sheen::boundedAverageAlbedo(alpha);
-    lastAlpha = alpha;
-  }
-  return lastAverage;
+  constexpr int kEntries = 8;
+  struct Entry {
+    double alpha = -1.0, average = 0.0;
+  };
+  thread_local Entry entries[kEntries];
+  thread_local int next = 0;
+  for (const Entry& e : entries)
+    if (e.alpha == alpha) return e.average;
+  Entry& e = entries[next];
+  next = (next + 1) % kEntries;
+  e.average = sheen::boundedAverageAlbedo(alpha);
+  e.alpha = alpha;
+  return e.average;
 }
 
 Spectrum sheenValue(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <vector>
 
 #include "renderer/bsdf/bsdf.h"
 #include "renderer/bsdf/sheen_albedo.h"
@@ -190,6 +191,27 @@ TEST(Sheen, BaseAlbedoIsWhatTheSheenLeaves) {
       const double got = albedoByQuadrature(baseLobe(alpha, uniform(1.0f), colour), c, 600);
       EXPECT_NEAR(got, 1.0 - 0.5 * sheen::boundedAlbedo(alpha, c), 2e-4) << alpha << " " << c;
     }
+}
+
+// The base's scaling uses Eb_avg of its own roughness, which sheen_lobe.cpp remembers per
+// thread for a few roughnesses: evaluations alternating over more roughnesses than it keeps,
+// in an order that defeats any small cache, equal the formula with a fresh Eb_avg bit for bit.
+TEST(Sheen, BaseScalingUsesItsOwnRoughnessAverageWhateverWasEvaluatedBefore) {
+  const Vec3 wo = fromAngles(0.6f, 0.2f), wi = fromAngles(1.1f, 2.0f);
+  const Spectrum colour = uniform(0.7f), albedo = uniform(0.9f);
+  std::vector<float> alphas;
+  for (int k = 0; k < 13; ++k) alphas.push_back(0.02f + 0.07f * float(k));
+  for (int round = 0; round < 3; ++round) {
+    for (size_t n = 0; n < alphas.size(); ++n) {
+      const float alpha = alphas[(n * 5 + size_t(round)) % alphas.size()];  // a stride co-prime with 13
+      const Spectrum f = lobeEval(baseLobe(alpha, albedo, colour), wo, wi, TransportMode::Radiance);
+      const double a = std::clamp(double(colour.v[0]), 0.0, 1.0);
+      const double clamped = sheen::clampRoughness(alpha);
+      const double eo = sheen::boundedAlbedo(clamped, std::fabs(wo.z)), ei = sheen::boundedAlbedo(clamped, std::fabs(wi.z));
+      const double scale = (1.0 - a * eo) * (1.0 - a * ei) / (1.0 - a * sheen::boundedAverageAlbedo(clamped));
+      EXPECT_EQ(f.v[0], albedo.v[0] * float(scale * (1.0 / 3.14159265358979323846))) << "alpha " << alpha;
+    }
+  }
 }
 
 TEST(Sheen, DegenerateInputsGiveZeroNotNaN) {
