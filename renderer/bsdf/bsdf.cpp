@@ -18,14 +18,6 @@ struct PairCosines {
 };
 
 // Lanes 4-7 all zero (a NaN lane is not).
-bool upperLanesZero(const Spectrum& s) {
-#if defined(__SSE2__)
-  return _mm_movemask_ps(_mm_cmpneq_ps(_mm_load_ps(s.v + 4), _mm_setzero_ps())) == 0;
-#else
-  return s.v[4] == 0.0f && s.v[5] == 0.0f && s.v[6] == 0.0f && s.v[7] == 0.0f;
-#endif
-}
-
 bool degenerate(float cosTheta) { return !(std::fabs(cosTheta) >= kMinCosTheta); }  // also NaN
 
 // Light leaks: a direction counts only when the shading and the geometric normal agree on
@@ -84,7 +76,7 @@ float Bsdf::selectionWeight(const Lobe& l) {
   static_assert(kLanes == 8);
   float sum = 0.0f;
   for (int lane = 0; lane < 4; ++lane) sum += std::fabs(l.weight.v[lane]);
-  if (!upperLanesZero(l.weight))
+  if (!l.weight.upperLanesZero())
     for (int lane = 4; lane < kLanes; ++lane) sum += std::fabs(l.weight.v[lane]);
   return std::isfinite(sum) ? sum : 0.0f;
 }

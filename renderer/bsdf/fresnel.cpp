@@ -33,7 +33,10 @@ Spectrum fresnelConductor(float cosThetaI, const Spectrum& eta, const Spectrum& 
   const float cos2 = cosI * cosI;
   const float sin2 = 1.0f - cos2;
   Spectrum r;
-  for (int i = 0; i < kLanes; ++i) {
+  // A group of 4 wavelengths leaves lanes 4-7 of eta and k zero: their r stays 0 (evaluated,
+  // n = 0 gives 1; either way the lobe's zero weight there makes f zero).
+  const int lanes = eta.upperLanesZero() && k.upperLanesZero() ? 4 : kLanes;
+  for (int i = 0; i < lanes; ++i) {
     const float eta2 = eta.v[i] * eta.v[i], k2 = k.v[i] * k.v[i];
     const float t0 = eta2 - k2 - sin2;
     const float a2PlusB2 = std::sqrt(std::max(0.0f, t0 * t0 + 4.0f * eta2 * k2));

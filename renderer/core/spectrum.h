@@ -67,6 +67,14 @@ struct Spectrum {
     return true;
 #endif
   }
+  // Lanes 4-7 all zero: a group of 4 wavelengths, whose per-lane loops may stop at lane 4.
+  bool upperLanesZero() const {
+#if defined(__SSE2__)
+    return _mm_movemask_ps(_mm_cmpneq_ps(_mm_load_ps(v + 4), _mm_setzero_ps())) == 0;
+#else
+    return v[4] == 0.0f && v[5] == 0.0f && v[6] == 0.0f && v[7] == 0.0f;
+#endif
+  }
   float maxValue() const {
     float m = v[0];
     for (float x : v) m = std::max(m, x);
