@@ -312,7 +312,13 @@ ClosureEvaluation walkTree(const compiler::ClosureNode* nodes, int32_t count, in
                            Bsdf* bsdf, Spectrum& emission, const std::array<FittedColor, 2>* fitted = nullptr) {
   Walker walker(nodes, count, lambda, bsdf, emission);
   walker.fitted = fitted;
-  walker.walk(root, Spectrum(1.0f), 0);
+  // Unit weight in the group's lanes only: lanes past the count stay zero (spectrum.h), so that
+  // lobes with constant weights (conductors, dielectrics, coats) carry no phantom lanes, which
+  // had doubled their share of the Bsdf's selection weights (sums over every nonzero lane)
+  // against colour-weighted lobes in groups of 4.
+  Spectrum unit;
+  for (int i = 0; i < lambda.count; ++i) unit.v[i] = 1.0f;
+  walker.walk(root, unit, 0);
   return walker.result;
 }
 

@@ -173,7 +173,7 @@ bool MaterialSystem::shade(int material, const ShadingPoint& point, const Wavele
   if (binding < 0 && !im.gltf(s)) {
     Lobe grey;
     grey.kind = LobeKind::Lambertian;
-    grey.weight = Spectrum(0.8f);
+    for (int i = 0; i < lambda.count; ++i) grey.weight.v[i] = 0.8f;  // lanes past the count stay zero
     bsdf.add(grey);
     return true;
   }

@@ -118,6 +118,34 @@ TEST(ClosureLobes, MixWeightsMultiplyDownTheTree) {
   EXPECT_FLOAT_EQ(s.bsdf.lobe(2).weight.v[0], 0.125f);
 }
 
+// Lanes past the group's count stay zero in every lobe weight (spectrum.h), whether the weight
+// comes from a colour or from a constant (a conductor's, a dielectric's, a coat's, the mix
+// weights): otherwise the Bsdf's selection weights, which sum over all nonzero lanes, would
+// favour constant-weighted lobes twice over in groups of 4.
+TEST(ClosureLobes, LobeWeightsAreZeroPastTheGroupsLanes) {
+  const Compiled c = compileEntries(
+      "export fn metal_or_paint(h: Hit) -> Material =\n"
+      "  mix_material(diffuse(rgb(0.8, 0.4, 0.2)), conductor(spectrum(0.2), spectrum(3.0), roughness: 0.3), 0.5)\n"
+      "export fn plastic(h: Hit) -> Material = layer(dielectric(1.5, 0.2), diffuse(rgb(0.5, 0.5, 0.5)))\n"
+      "export fn glass(h: Hit) -> Material = scale_material(dielectric(1.5), 0.9)\n",
+      {"metal_or_paint", "plastic", "glass"});
+  ASSERT_EQ(c.bindings.bindings.size(), 3u);
+  for (const CompiledBinding& b : c.bindings.bindings) {
+    const Shaded s = shade(b);
+    ASSERT_TRUE(s.result.ok) << b.name;
+    ASSERT_GT(s.bsdf.lobeCount(), 0);
+    for (int i = 0; i < s.bsdf.lobeCount(); ++i) {
+      const Lobe& lobe = s.bsdf.lobe(i);
+      for (int lane = 0; lane < 4; ++lane) EXPECT_GT(lobe.weight.v[lane], 0.0f) << b.name << " lobe " << i;
+      EXPECT_TRUE(lobe.weight.upperLanesZero()) << b.name << " lobe " << i;
+    }
+  }
+  // The coat too.
+  const Shaded plastic = shade(c.bindings.bindings[1]);
+  ASSERT_TRUE(plastic.bsdf.hasCoat());
+  EXPECT_TRUE(plastic.bsdf.coat().weight.upperLanesZero());
+}
+
 TEST(ClosureLobes, UnsupportedLayersFailCleanly) {
   // A coat must be a dielectric, and one Bsdf holds one coat: these shade black and report it.
   const Compiled c = compileEntries(
