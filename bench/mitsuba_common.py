@@ -1,4 +1,4 @@
-"""What bench/mitsuba_cornell.py and bench/mitsuba_specular.py share: finding libLLVM for
+"""What bench/mitsuba_cornell.py, bench/mitsuba_specular.py and bench/mitsuba_envmap.py share: finding libLLVM for
 Dr.Jit's llvm backend, the render options both take, starting Mitsuba with a variant and a thread
 count, rendering in passes with different seeds (the image is their mean; with 2 or more passes
 the spread of the passes gives the variance of that mean), and writing the result as an EXR
@@ -98,3 +98,98 @@ class Passes:
             names += ["variance.R", "variance.G", "variance.B"]
         data = np.ascontiguousarray(np.stack(channels, axis=-1).astype(np.float32))
         mi.Bitmap(data, mi.Bitmap.PixelFormat.MultiChannel, names).write(path)
+
+
+def load_exr_with_variance(path):
+    """(mean, variance) of an EXR with R/G/B and variance.R/G/B channels (as tex and
+    Passes.write_exr write them), both float64 arrays (height, width, 3). Needs a variant set."""
+    import mitsuba as mi
+    import numpy as np
+    bitmap = mi.Bitmap(path)
+    data = np.array(bitmap, dtype=np.float64)
+    names = [bitmap.struct_()[i].name for i in range(bitmap.channel_count())]
+    ch = {name: data[..., i] for i, name in enumerate(names)}
+    mean = np.stack([ch[c] for c in "RGB"], axis=-1)
+    var = np.stack([ch["variance." + c] for c in "RGB"], axis=-1)
+    return mean, var
+
+
+def compare_regions(images, masks, info_regions=(), alpha=0.01, tolerances=None):
+    """Region means and per-pixel Z-tests of images {"tex", "scalar", "llvm"} -> (mean, variance)
+    over masks {region name -> bool array}, printed, with the verdict of the specular check
+    (bench/README.md): a region-channel mean of a tex pair (tex/llvm, tex/scalar) off by more than
+    the Sidak bound for family-wise rate alpha, or a tex pair's per-pixel Z-test worse than the
+    Mitsuba-only control (llvm/scalar) by more than noise allows (mean z^2 above 1.25 x + 0.1 of
+    the control's, or more than 2 x + 0.5 % of pixel channels past 3 sigma), is a failure. Regions
+    in info_regions are printed but neither counted in the bound nor judged. tolerances (optional,
+    {region: relative tolerance}) adds a stated systematic allowance to a region's mean test: its
+    deviations are in units of sqrt(se_a^2 + se_b^2 + (tolerance x mean_b)^2). Returns the failures
+    (a list of strings; empty: agreement)."""
+    import numpy as np
+    from statistics import NormalDist
+
+    pairs = [("tex", "llvm"), ("tex", "scalar"), ("llvm", "scalar")]  # the last is the control
+    judged = [r for r in masks if r not in info_regions]
+    tests = len(judged) * 3 * 2  # the region-channel mean tests of the two tex pairs
+    z_crit = NormalDist().inv_cdf(1 - (1 - (1 - alpha) ** (1 / tests)) / 2)
+    labels = {"tex": "tex", "scalar": "mitsuba scalar_spectral", "llvm": "mitsuba llvm_ad_spectral"}
+    failures = []
+
+    def mean_se(name, mask):
+        m, v = images[name]
+        n = mask.sum()
+        return m[mask].mean(axis=0), np.sqrt(v[mask].sum(axis=0)) / n
+
+    def ztest(a, b, mask):
+        (ma, va), (mb, vb) = images[a], images[b]
+        var = (va + vb)[mask]
+        ok = var > 0
+        z = ((ma - mb)[mask])[ok] / np.sqrt(var[ok])
+        return float(np.mean(z * z)) if z.size else 0.0, float(np.mean(np.abs(z) > 3)) if z.size else 0.0
+
+    print("   region means (R G B) +- standard error; ratio tex / Mitsuba and its deviation in sigma")
+    print(f"   (pass: every |deviation| of a tex pair <= {z_crit:.2f} sigma, the Sidak bound for {tests} tests "
+          f"at family-wise {alpha:g}; regions marked 'info' are not judged)")
+    tolerances = tolerances or {}
+    for region in masks:
+        mask = masks[region]
+        info = region in info_regions
+        tol = tolerances.get(region, 0.0)
+        print(f"   {region} ({mask.sum()} pixels){' (info)' if info else ''}"
+              f"{f' (systematic tolerance {100 * tol:g} % in the deviations)' if tol else ''}:")
+        if not mask.any():
+            continue
+        stats = {k: mean_se(k, mask) for k in images}
+        for k in images:
+            m, se = stats[k]
+            print("     %-24s %s" % (labels[k], "  ".join("%.5f+-%.5f" % (a, s) for a, s in zip(m, se))))
+        for a, b in pairs:
+            (ma, sa), (mb, sb) = stats[a], stats[b]
+            ratio = ma / mb
+            dev = (ma - mb) / np.sqrt(sa * sa + sb * sb + (tol * mb) ** 2)
+            rse = ratio * np.sqrt((sa / ma) ** 2 + (sb / mb) ** 2)
+            control = a != "tex"
+            bad = (not control) and (not info) and bool(np.any(np.abs(dev) > z_crit))
+            if bad:
+                failures.append(f"{region}: {a}/{b} deviations {' '.join('%.1f' % x for x in dev)} sigma")
+            print("       %-13s R %.4f  G %.4f  B %.4f  (+- %.4f %.4f %.4f)  deviation %5.1f %5.1f %5.1f sigma%s" %
+                  ((f"{a}/{b}",) + tuple(ratio) + tuple(rse) + tuple(dev) +
+                   ("  (control)" if control else "  FAIL" if bad else "",)))
+
+    print("   per-pixel Z-test (z = difference / sqrt(sum of variances), every pixel channel):")
+    print("     %-26s %-12s %s" % ("region", "pair", "mean z^2   |z|>3"))
+    ztab = {}
+    for region in masks:
+        for a, b in pairs:
+            zz, out = ztest(a, b, masks[region])
+            ztab[(region, a, b)] = (zz, out)
+            print("     %-26s %-12s %7.3f  %7.3f %%%s" % (region, f"{a}/{b}", zz, 100 * out,
+                                                       "  (info)" if region in info_regions else ""))
+    for region in judged:
+        czz, cout = ztab[(region, "llvm", "scalar")]
+        for a, b in pairs[:2]:
+            zz, out = ztab[(region, a, b)]
+            if zz > 1.25 * czz + 0.1 or out > 2 * cout + 0.005:
+                failures.append(f"{region}: Z-test {a}/{b} mean z^2 {zz:.3f}, |z|>3 {100 * out:.2f} % "
+                                f"against the control's {czz:.3f}, {100 * cout:.2f} %")
+    return failures

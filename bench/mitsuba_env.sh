@@ -1,4 +1,4 @@
-# Sourced by the scripts that run tex beside Mitsuba 3 (cornell_vs_mitsuba.sh,
+# Sourced by the scripts that run tex beside Mitsuba 3 (cornell_vs_mitsuba.sh, envmap_vs_mitsuba.sh,
 # specular_vs_mitsuba.sh), from the repository's root: sets TEX (building tex with .ci/build
 # unless TEX names a binary) and PY (the Python of VENV, a venv with mitsuba and numpy, created
 # and filled if missing; idempotent), and defines compare_pairs.
