@@ -11,6 +11,7 @@ namespace tex::render {
 namespace {
 
 int wrapIndex(int i, int n, WrapMode mode) {
+  if (unsigned(i) < unsigned(n)) return i;  // inside the image: every mode keeps it (no division)
   switch (mode) {
     case WrapMode::ClampToEdge:
       return std::clamp(i, 0, n - 1);
