@@ -31,16 +31,13 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 ROOT=$(pwd)
 SCENE=scenes/cornell-box-mitsuba.json
-THREADS=${THREADS:-2}
 SPP_TIME=${SPP_TIME:-64}
 SPP_CMP=${SPP_CMP:-256}
 REPEAT=${REPEAT:-3}
 FILTER_CMP=${FILTER_CMP:-box}
 OUT=${OUT:-build/bench-cornell}
-VENV=${VENV:-build/bench-venv}
-mkdir -p "$OUT"
 
-# --- tex and Mitsuba 3 (a venv, idempotent) -----------------------------------------
+# --- tex and Mitsuba 3 (a venv, idempotent); THREADS, VENV defaults ------------------
 source bench/mitsuba_env.sh
 
 # Mitsuba's max_depth counts path vertices after the camera (1 = emitters seen directly),
@@ -70,7 +67,7 @@ mi_paths_per_s() { sed -nE 's/^RESULT .* paths_per_s=([0-9.]+).*/\1/p' "$1"; }
 mi_cpu() { sed -nE 's/^RESULT .* cpu_utilisation=([0-9.]+).*/\1/p' "$1"; }
 best() { sort -g | tail -1; }
 
-echo "== machine: $(nproc) cores, load average $(cut -d' ' -f1-3 /proc/loadavg); $("$PY" -c 'import mitsuba; print("mitsuba", mitsuba.__version__)')"
+print_machine
 echo "== timing: 256x256, $SPP_TIME spp, $THREADS threads, Mitsuba max_depth $MI_DEPTH = tex max_depth $TEX_DEPTH, rr_depth = roulette depth $RR_DEPTH, best of $REPEAT"
 echo "   (paths/s; in brackets CPU seconds / wall seconds: below $THREADS means other processes took CPU time)"
 for r in tex texrr scalar llvm; do : >"$OUT/${r}_rates"; : >"$OUT/${r}_per_cpu"; done

@@ -47,32 +47,23 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 SCENE=scenes/envmap-mitsuba.json
-THREADS=${THREADS:-2}
 SPP=${SPP:-1024}
 OUT=${OUT:-build/bench-envmap}
-VENV=${VENV:-build/bench-venv}
 CONFIGS=${CONFIGS:-identity rotated}
 ROTATE=${ROTATE:-1,0.5,0,40}
 SENSITIVITY=${SENSITIVITY-mirror rot90 sun}
-mkdir -p "$OUT"
 (( SPP % 16 == 0 )) || { echo "SPP must be a multiple of 16" >&2; exit 2; }
 
-# --- tex and Mitsuba 3 (a venv, idempotent) -----------------------------------------
+# --- tex and Mitsuba 3 (a venv, idempotent); THREADS, VENV defaults ------------------
 source bench/mitsuba_env.sh
 
 # The map and meshes both renderers read must be what the generator writes.
 "$PY" bench/gen_envmap_check.py --check >/dev/null
-echo "== machine: $(nproc) cores, load average $(cut -d' ' -f1-3 /proc/loadavg); $("$PY" -c 'import mitsuba; print("mitsuba", mitsuba.__version__)')"
+print_machine
 echo "== Mitsuba's envmap mapping against the node model (mitsuba_envmap.py probe)"
 "$PY" bench/mitsuba_envmap.py probe --env-rotate "$ROTATE"
 
-MI_DEPTH=8                   # Mitsuba: path vertices after the camera
-TEX_DEPTH=$((MI_DEPTH - 1))  # tex: scattering events (scenes/cornell-box-mitsuba.json, _comment)
-RR_DEPTH=5
-TEX_FLAGS=(--res 256x192 --threads "$THREADS" --wavelengths 4 --max-depth "$TEX_DEPTH" --roulette-depth "$RR_DEPTH"
-           --filter box --spp "$SPP" -q)
-MI=("$PY" bench/mitsuba_envmap.py --spp "$SPP" --pass-spp $((SPP / 16)) --threads "$THREADS" --max-depth "$MI_DEPTH"
-    --rr-depth "$RR_DEPTH")
+region_check_setup 256x192 bench/mitsuba_envmap.py
 
 # scene_with OUTFILE TRANSFORM_JSON [MAP]: the scene with absolute paths, the environment's
 # "transform" (or none for "") and optionally another map.
@@ -109,24 +100,8 @@ for config in $CONFIGS; do
   scene_with "$scene" "$([[ -n $rot ]] && rotate_json "$rot" || true)"
   mode=$([[ $config == identity ]] && echo 1 || echo 2)
   echo "== $config${rot:+ (environment rotate $rot)}: 256x192, $SPP spp each, box filter, $THREADS threads"
-  SECONDS=0
-  "$TEX" render "$scene" -o "$dir/tex.exr" -o "$dir/tex.png" "${TEX_FLAGS[@]}" --seed "$mode" | sed 's/^/   /'
-  echo "   ($SECONDS s)"
-  for v in scalar_spectral llvm_ad_spectral; do
-    SECONDS=0
-    seed=$(( ($([[ $v == scalar_spectral ]] && echo 1 || echo 2) + 2 * mode) * 1000 ))
-    "${MI[@]}" --variant "$v" --env-rotate "$rot" --seed "$seed" -o "$dir/mitsuba_$v.exr" | grep -v '^RESULT' | sed 's/^/   /'
-    echo "   ($SECONDS s)"
-  done
-  compare_pairs "$dir" "tex.exr mitsuba_llvm_ad_spectral.exr" "tex.exr mitsuba_scalar_spectral.exr" \
-    "mitsuba_llvm_ad_spectral.exr mitsuba_scalar_spectral.exr"
-  if "$PY" bench/mitsuba_envmap.py analyse "$dir/tex.exr" "$dir/mitsuba_scalar_spectral.exr" \
-       "$dir/mitsuba_llvm_ad_spectral.exr" --env-rotate "$rot" --masks-out "$dir/regions.png"; then
-    summary+=("$config: agree")
-  else
-    summary+=("$config: DISAGREE")
-    status=1
-  fi
+  render_three "$scene" "$dir" "$mode" --env-rotate "$rot"
+  judge "$config" bench/mitsuba_envmap.py "$dir" --env-rotate "$rot"
 done
 
 # --- sensitivity: tex with a wrong map must disagree with the identity images -------------
@@ -159,9 +134,7 @@ EOF
   esac
   scene_with "$dir/scene.json" "$transform" "${map:-}"
   echo "== sensitivity $case: tex with the wrong map against the identity configuration's Mitsuba images"
-  SECONDS=0
-  "$TEX" render "$dir/scene.json" -o "$dir/tex.exr" -o "$dir/tex.png" "${TEX_FLAGS[@]}" --seed 3 | sed 's/^/   /'
-  echo "   ($SECONDS s)"
+  render_tex "$dir/scene.json" "$dir" 3
   compare_pairs "$OUT" "sensitivity-$case/tex.exr identity/mitsuba_llvm_ad_spectral.exr"
   if "$PY" bench/mitsuba_envmap.py analyse "$dir/tex.exr" "$ref/mitsuba_scalar_spectral.exr" \
        "$ref/mitsuba_llvm_ad_spectral.exr"; then

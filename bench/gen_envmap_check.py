@@ -29,14 +29,13 @@ thin bands along colour edges where the error is antisymmetric.
 Usage: build-bench/venv/bin/python bench/gen_envmap_check.py [--check]
        (needs numpy and mitsuba, for EXR I/O; --check: exit 1 if the files are stale)
 """
-import json
 import os
-import struct
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 from gen_specular_spheres import check_winding, sphere  # noqa: E402
+from gltf_mesh_io import GltfMeshes, report_stale, update_files  # noqa: E402
 
 SCENES = os.path.join(HERE, "..", "scenes")
 MAP_NAME = "envmap_check.exr"
@@ -96,39 +95,8 @@ def meshes():
 
 
 def build_gltf():
-    blob = bytearray()
-    accessors, views, gmeshes, materials, nodes = [], [], [], [], []
-
-    def add_view(data, target):
-        while len(blob) % 4:
-            blob.append(0)
-        views.append({"buffer": 0, "byteOffset": len(blob), "byteLength": len(data), "target": target})
-        blob.extend(data)
-        return len(views) - 1
-
-    for index, (name, positions, normals, tris) in enumerate(meshes()):
-        pos = b"".join(struct.pack("<3f", *p) for p in positions)
-        nrm = b"".join(struct.pack("<3f", *n) for n in normals)
-        idx = b"".join(struct.pack("<3H", *t) for t in tris)
-        lo = [min(p[k] for p in positions) for k in range(3)]
-        hi = [max(p[k] for p in positions) for k in range(3)]
-        accessors.append({"bufferView": add_view(pos, 34962), "componentType": 5126, "count": len(positions),
-                          "type": "VEC3", "min": lo, "max": hi})
-        accessors.append({"bufferView": add_view(nrm, 34962), "componentType": 5126, "count": len(normals),
-                          "type": "VEC3"})
-        accessors.append({"bufferView": add_view(idx, 34963), "componentType": 5123, "count": 3 * len(tris),
-                          "type": "SCALAR"})
-        materials.append({"name": name})
-        gmeshes.append({"name": name, "primitives": [{"attributes": {"POSITION": 3 * index, "NORMAL": 3 * index + 1},
-                                                      "indices": 3 * index + 2, "material": index}]})
-        nodes.append({"name": name, "mesh": index})
-    doc = {
-        "asset": {"version": "2.0", "generator": "bench/gen_envmap_check.py"},
-        "scene": 0, "scenes": [{"nodes": list(range(len(nodes)))}], "nodes": nodes, "meshes": gmeshes,
-        "materials": materials, "accessors": accessors, "bufferViews": views,
-        "buffers": [{"uri": BIN_NAME, "byteLength": len(blob)}],
-    }
-    return {BIN_NAME: bytes(blob), GLTF_NAME: (json.dumps(doc, indent=1) + "\n").encode()}
+    gltf = GltfMeshes(meshes())
+    return {BIN_NAME: bytes(gltf.blob), GLTF_NAME: gltf.document("bench/gen_envmap_check.py", BIN_NAME)}
 
 
 def read_exr_rgb(path):
@@ -153,24 +121,14 @@ def write_exr_rgb(path, img):
 def main():
     import numpy as np
     check = "--check" in sys.argv[1:]
-    stale = []
-    for name, data in build_gltf().items():
-        path = os.path.join(SCENES, name)
-        old = open(path, "rb").read() if os.path.exists(path) else None
-        if old != data:
-            stale.append(name)
-            if not check:
-                with open(path, "wb") as f:
-                    f.write(data)
+    stale = update_files(SCENES, build_gltf(), check)
     img = environment_map()
     path = os.path.join(SCENES, MAP_NAME)
     if not os.path.exists(path) or not np.array_equal(read_exr_rgb(path), img):
         stale.append(MAP_NAME)
         if not check:
             write_exr_rgb(path, img)
-    if check and stale:
-        sys.exit("stale: " + ", ".join(stale) + " (run bench/gen_envmap_check.py with the bench venv's python)")
-    print(("stale: " if check else "wrote: ") + (", ".join(stale) if stale else "nothing (up to date)"))
+    report_stale(stale, check, "run bench/gen_envmap_check.py with the bench venv's python")
 
 
 if __name__ == "__main__":

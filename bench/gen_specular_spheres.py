@@ -17,10 +17,12 @@ one place that lists them; the Mitsuba script imports it).
 
 Usage: python3 bench/gen_specular_spheres.py [--check]   (--check: exit 1 if the files are stale)
 """
-import json
 import os
 import struct
 import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from gltf_mesh_io import GltfMeshes, report_stale, update_files  # noqa: E402
 
 SEGMENTS = 64
 RINGS = 32
@@ -87,70 +89,29 @@ def check_winding(positions, tris, center):
 
 
 def build():
-    blob = bytearray()
-    accessors, views, meshes, materials, nodes = [], [], [], [], []
-
-    def add_view(data, target):
-        while len(blob) % 4:
-            blob.append(0)
-        views.append({"buffer": 0, "byteOffset": len(blob), "byteLength": len(data), "target": target})
-        blob.extend(data)
-        return len(views) - 1
-
-    for index, (name, center, radius, segments, rings) in enumerate(SPHERES):
+    meshes = []
+    for name, center, radius, segments, rings in SPHERES:
         positions, normals, tris = sphere(center, radius, segments, rings)
         check_winding(positions, tris, center)
-        pos = b"".join(struct.pack("<3f", *p) for p in positions)
-        nrm = b"".join(struct.pack("<3f", *n) for n in normals)
-        idx = b"".join(struct.pack("<3H", *t) for t in tris)
-        lo = [min(p[k] for p in positions) for k in range(3)]
-        hi = [max(p[k] for p in positions) for k in range(3)]
-        accessors.append({"bufferView": add_view(pos, 34962), "componentType": 5126, "count": len(positions),
-                          "type": "VEC3", "min": lo, "max": hi})
-        accessors.append({"bufferView": add_view(nrm, 34962), "componentType": 5126, "count": len(normals),
-                          "type": "VEC3"})
-        accessors.append({"bufferView": add_view(idx, 34963), "componentType": 5123, "count": 3 * len(tris),
-                          "type": "SCALAR"})
-        materials.append({"name": name})
-        meshes.append({"name": name, "primitives": [{"attributes": {"POSITION": 3 * index, "NORMAL": 3 * index + 1},
-                                                     "indices": 3 * index + 2, "material": index}]})
-        nodes.append({"name": name, "mesh": index})
+        meshes.append((name, positions, normals, tris))
+    gltf = GltfMeshes(meshes)
 
     def document(flat):
-        ms = json.loads(json.dumps(meshes))
-        if flat:
-            for m in ms:
-                del m["primitives"][0]["attributes"]["NORMAL"]
-        return {
-            "asset": {"version": "2.0", "generator": "bench/gen_specular_spheres.py"},
-            "extras": {"shading": "flat" if flat else "smooth"},
-            "scene": 0, "scenes": [{"nodes": list(range(len(nodes)))}], "nodes": nodes, "meshes": ms,
-            "materials": materials, "accessors": accessors, "bufferViews": views,
-            "buffers": [{"uri": BIN_NAME, "byteLength": len(blob)}],
-        }
+        return gltf.document("bench/gen_specular_spheres.py", BIN_NAME, extras={"shading": "flat" if flat else "smooth"},
+                             normals=not flat)
 
     files = {
-        BIN_NAME: bytes(blob),
-        "specular_spheres.gltf": (json.dumps(document(False), indent=1) + "\n").encode(),
-        "specular_spheres_flat.gltf": (json.dumps(document(True), indent=1) + "\n").encode(),
+        BIN_NAME: bytes(gltf.blob),
+        "specular_spheres.gltf": document(False),
+        "specular_spheres_flat.gltf": document(True),
     }
     return files
 
 
 def main():
     check = "--check" in sys.argv[1:]
-    stale = []
-    for name, data in build().items():
-        path = os.path.join(SCENES, name)
-        old = open(path, "rb").read() if os.path.exists(path) else None
-        if old != data:
-            stale.append(name)
-            if not check:
-                with open(path, "wb") as f:
-                    f.write(data)
-    if check and stale:
-        sys.exit("stale: " + ", ".join(stale) + " (run python3 bench/gen_specular_spheres.py)")
-    print(("stale: " if check else "wrote: ") + (", ".join(stale) if stale else "nothing (up to date)"))
+    stale = update_files(SCENES, build(), check)
+    report_stale(stale, check, "run python3 bench/gen_specular_spheres.py")
 
 
 if __name__ == "__main__":

@@ -1,8 +1,9 @@
 """What bench/mitsuba_cornell.py, bench/mitsuba_specular.py and bench/mitsuba_envmap.py share: finding libLLVM for
-Dr.Jit's llvm backend, the render options both take, starting Mitsuba with a variant and a thread
+Dr.Jit's llvm backend, the render options they take, starting Mitsuba with a variant and a thread
 count, rendering in passes with different seeds (the image is their mean; with 2 or more passes
 the spread of the passes gives the variance of that mean), and writing the result as an EXR
-with variance.R/G/B channels for `tex compare`'s Z-test."""
+with variance.R/G/B channels for `tex compare`'s Z-test; for the specular and envmap checks also
+the render-and-report step and their `analyse` (region means, per-pixel Z-tests, verdict)."""
 import glob
 import os
 import resource
@@ -100,6 +101,26 @@ class Passes:
         mi.Bitmap(data, mi.Bitmap.PixelFormat.MultiChannel, names).write(path)
 
 
+def render_and_report(mi, np, scene, args, width, height, load_s, settings):
+    """Renders the passes (Passes), prints a human line (settings: what to say about the scene
+    after the thread count) and the machine-readable
+        RESULT variant=<v> spp=<n> threads=<t> seconds=<s> paths_per_s=<p>
+    and writes args.output (if given) with variance channels."""
+    pass_spp, _ = pass_count(args)
+    passes = Passes(mi, np, scene, args)
+    mean, seconds = passes.mean, passes.seconds
+    paths_per_s = width * height * args.spp / seconds
+    print(f"mitsuba {mi.__version__} {args.variant}: {width}x{height}, {args.spp} spp "
+          f"({passes.count} pass(es) of {pass_spp}), max_depth {args.max_depth}, rr_depth {args.rr_depth}, "
+          f"{args.threads} threads, {settings}: {seconds:.1f} s (+ scene load {load_s:.2f} s), "
+          f"{paths_per_s / 1e6:.3f} M paths/s; "
+          f"mean RGB {mean[..., 0].mean():.5f} {mean[..., 1].mean():.5f} {mean[..., 2].mean():.5f}")
+    print(f"RESULT variant={args.variant} spp={args.spp} threads={args.threads} seconds={seconds:.4f} "
+          f"paths_per_s={paths_per_s:.1f}")
+    if args.output:
+        passes.write_exr(mi, np, args.output)
+
+
 def load_exr_with_variance(path):
     """(mean, variance) of an EXR with R/G/B and variance.R/G/B channels (as tex and
     Passes.write_exr write them), both float64 arrays (height, width, 3). Needs a variant set."""
@@ -148,8 +169,9 @@ def compare_regions(images, masks, info_regions=(), alpha=0.01, tolerances=None)
         return float(np.mean(z * z)) if z.size else 0.0, float(np.mean(np.abs(z) > 3)) if z.size else 0.0
 
     print("   region means (R G B) +- standard error; ratio tex / Mitsuba and its deviation in sigma")
+    info_note = "; regions marked 'info' are not judged" if info_regions else ""
     print(f"   (pass: every |deviation| of a tex pair <= {z_crit:.2f} sigma, the Sidak bound for {tests} tests "
-          f"at family-wise {alpha:g}; regions marked 'info' are not judged)")
+          f"at family-wise {alpha:g}{info_note})")
     tolerances = tolerances or {}
     for region in masks:
         mask = masks[region]
@@ -193,3 +215,42 @@ def compare_regions(images, masks, info_regions=(), alpha=0.01, tolerances=None)
                 failures.append(f"{region}: Z-test {a}/{b} mean z^2 {zz:.3f}, |z|>3 {100 * out:.2f} % "
                                 f"against the control's {czz:.3f}, {100 * cout:.2f} %")
     return failures
+
+
+def add_analyse_arguments(ap):
+    """The arguments every `analyse` takes: the three images, --alpha, --masks-out."""
+    ap.add_argument("tex")
+    ap.add_argument("scalar")
+    ap.add_argument("llvm")
+    ap.add_argument("--alpha", type=float, default=0.01,
+                    help="family-wise false-alarm rate of the region mean tests (Sidak-corrected; default 0.01)")
+    ap.add_argument("--masks-out", default="", help="write the region masks as a PNG (optional)")
+
+
+def analyse_regions(args, region_masks, colours, agreement, **compare_args):
+    """`analyse` of the specular and envmap checks: loads args.tex, args.scalar and args.llvm (EXRs
+    with variance channels), takes the regions from region_masks(width, height) (called with the
+    scalar_rgb variant set), writes them to args.masks_out (if given) as a PNG in colours
+    ({region: RGB}; other regions black), runs compare_regions (compare_args: info_regions,
+    tolerances) with args.alpha and prints the verdict (agreement: the line printed when there are
+    no failures). Returns the exit status: 0 agreement, 1 disagreement."""
+    import mitsuba as mi
+    import numpy as np
+    mi.set_variant("scalar_rgb")
+
+    images = {k: load_exr_with_variance(getattr(args, k)) for k in ("tex", "scalar", "llvm")}
+    h, w = images["tex"][0].shape[:2]
+    masks = region_masks(w, h)
+    if args.masks_out:
+        img = np.zeros((h, w, 3), np.float32)
+        for name, col in colours.items():
+            img[masks[name]] = col
+        mi.util.write_bitmap(args.masks_out, img)
+    failures = compare_regions(images, masks, alpha=args.alpha, **compare_args)
+    if failures:
+        print("   DISAGREEMENT:")
+        for f in failures:
+            print("     " + f)
+        return 1
+    print("   agreement: " + agreement)
+    return 0

@@ -47,8 +47,9 @@ import tempfile
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-from mitsuba_common import (Passes, add_render_arguments, compare_regions, load_exr_with_variance,  # noqa: E402
-                            load_scene, pass_count, start_mitsuba)
+from gltf_mesh_io import gltf_to_ply  # noqa: E402
+from mitsuba_common import (add_analyse_arguments, add_render_arguments, analyse_regions, load_scene,  # noqa: E402
+                            render_and_report, start_mitsuba)
 
 ROOT = os.path.join(HERE, "..")
 MAP = os.path.join(ROOT, "scenes", "envmap_check.exr")
@@ -168,7 +169,6 @@ def main():
     rot = parse_rotate(args.env_rotate)
     dr, mi, np = start_mitsuba(args)
     from gen_envmap_check import read_exr_rgb
-    from mitsuba_specular import read_gltf_meshes, write_ply
 
     tmp = tempfile.TemporaryDirectory(prefix="mitsuba_envmap_")
     nodes = mitsuba_map(read_exr_rgb(args.map), args.map_factor)
@@ -184,25 +184,12 @@ def main():
         },
         "sky": envmap_desc(mi, nodes, rot, os.path.join(tmp.name, "envmap.exr")),
     }
-    for name, pos, nrm, idx, nv, nf in read_gltf_meshes(GLTF):
-        ply = os.path.join(tmp.name, name + ".ply")
-        write_ply(ply, pos, nrm, idx, nv, nf)
+    for name, ply, _ in gltf_to_ply(GLTF, tmp.name):
         desc["shape-" + name] = {"type": "ply", "filename": ply, "face_normals": False, "bsdf": dict(BSDFS[name])}
     scene, width, height, load_s = load_scene(mi, desc)
 
-    pass_spp, _ = pass_count(args)
-    passes = Passes(mi, np, scene, args)
-    mean, seconds = passes.mean, passes.seconds
-    paths_per_s = width * height * args.spp / seconds
-    print(f"mitsuba {mi.__version__} {args.variant}: {width}x{height}, {args.spp} spp "
-          f"({passes.count} pass(es) of {pass_spp}), max_depth {args.max_depth}, rr_depth {args.rr_depth}, "
-          f"{args.threads} threads, map x{args.map_factor} ({nodes.shape[1]}x{nodes.shape[0]} nodes), "
-          f"env rotate {rot}: {seconds:.1f} s (+ scene load {load_s:.2f} s), {paths_per_s / 1e6:.3f} M paths/s; "
-          f"mean RGB {mean[..., 0].mean():.5f} {mean[..., 1].mean():.5f} {mean[..., 2].mean():.5f}")
-    print(f"RESULT variant={args.variant} spp={args.spp} threads={args.threads} seconds={seconds:.4f} "
-          f"paths_per_s={paths_per_s:.1f}")
-    if args.output:
-        passes.write_exr(mi, np, args.output)
+    render_and_report(mi, np, scene, args, width, height, load_s,
+                      f"map x{args.map_factor} ({nodes.shape[1]}x{nodes.shape[0]} nodes), env rotate {rot}")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -359,44 +346,24 @@ def region_masks(width, height, img, rot):
 def analyse(argv):
     ap = argparse.ArgumentParser(prog="mitsuba_envmap.py analyse",
                                  description="image and region means, per-pixel Z-tests, verdict")
-    ap.add_argument("tex")
-    ap.add_argument("scalar")
-    ap.add_argument("llvm")
+    add_analyse_arguments(ap)
     ap.add_argument("--map", default=MAP)
     ap.add_argument("--env-rotate", default="")
-    ap.add_argument("--alpha", type=float, default=0.01,
-                    help="family-wise false-alarm rate of the region mean tests (Sidak-corrected; default 0.01)")
     ap.add_argument("--sky-tolerance", type=float, default=0.002,
                     help="relative systematic tolerance of the 'sky, uniform' means (default 0.002: the two "
                          "renderers' RGB -> spectrum -> RGB round trips of a map colour differ by up to 0.1 %%, "
                          "bench/README.md)")
-    ap.add_argument("--masks-out", default="", help="write the region masks as a PNG (optional)")
     args = ap.parse_args(argv)
-    import mitsuba as mi
-    import numpy as np
-    mi.set_variant("scalar_rgb")
     from gen_envmap_check import read_exr_rgb
 
-    images = {"tex": load_exr_with_variance(args.tex), "scalar": load_exr_with_variance(args.scalar),
-              "llvm": load_exr_with_variance(args.llvm)}
-    h, w = images["tex"][0].shape[:2]
-    masks = region_masks(w, h, read_exr_rgb(args.map), parse_rotate(args.env_rotate))
-    if args.masks_out:
-        colours = {"ground": (0.5, 0.5, 0.5), "white sphere": (1.0, 1.0, 1.0), "metal sphere": (0.3, 0.3, 0.9),
-                   "orange sphere": (1.0, 0.5, 0.1), "sky, uniform": (0.2, 0.8, 0.9), "sky, edges": (1.0, 0.0, 0.0)}
-        img = np.zeros((h, w, 3), np.float32)
-        for name, col in colours.items():
-            img[masks[name]] = col
-        mi.util.write_bitmap(args.masks_out, img)
-    failures = compare_regions(images, masks, info_regions=("sky, edges",), alpha=args.alpha,
-                               tolerances={"sky, uniform": args.sky_tolerance})
-    if failures:
-        print("   DISAGREEMENT:")
-        for f in failures:
-            print("     " + f)
-        return 1
-    print("   agreement: all judged region means within the bound, Z-tests comparable to the control")
-    return 0
+    colours = {"ground": (0.5, 0.5, 0.5), "white sphere": (1.0, 1.0, 1.0), "metal sphere": (0.3, 0.3, 0.9),
+               "orange sphere": (1.0, 0.5, 0.1), "sky, uniform": (0.2, 0.8, 0.9), "sky, edges": (1.0, 0.0, 0.0)}
+
+    def masks(width, height):
+        return region_masks(width, height, read_exr_rgb(args.map), parse_rotate(args.env_rotate))
+
+    return analyse_regions(args, masks, colours, "all judged region means within the bound, Z-tests comparable to the control",
+                           info_regions=("sky, edges",), tolerances={"sky, uniform": args.sky_tolerance})
 
 
 if __name__ == "__main__":

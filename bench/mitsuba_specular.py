@@ -21,14 +21,14 @@ Prints a human line and one machine-readable line:
     RESULT variant=<v> spp=<n> threads=<t> seconds=<s> paths_per_s=<p>
 """
 import argparse
-import json
 import os
-import struct
 import sys
 import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from mitsuba_common import Passes, add_render_arguments, load_scene, pass_count, start_mitsuba  # noqa: E402
+from gltf_mesh_io import gltf_to_ply  # noqa: E402
+from mitsuba_common import (add_analyse_arguments, add_render_arguments, analyse_regions, load_scene,  # noqa: E402
+                            render_and_report, start_mitsuba)
 
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
 
@@ -43,57 +43,6 @@ BSDFS = {
 EMITTERS = {
     "core": {"type": "area", "radiance": {"type": "rgb", "value": [3.0, 1.5, 0.6]}},
 }
-
-
-def read_gltf_meshes(path):
-    """(name, positions bytes, normals bytes or None, indices as uint32 bytes, vertex count,
-    triangle count) of every mesh primitive in the glTF file. Only what the generator writes is
-    supported: float VEC3 attributes, tightly packed, unsigned short or int indices."""
-    doc = json.load(open(path))
-    base = os.path.dirname(path)
-    buffers = [open(os.path.join(base, b["uri"]), "rb").read() for b in doc["buffers"]]
-
-    def accessor_bytes(i, element_size):
-        a = doc["accessors"][i]
-        v = doc["bufferViews"][a["bufferView"]]
-        if v.get("byteStride", element_size) != element_size:
-            sys.exit(f"{path}: strided accessor {i} not supported")
-        start = v.get("byteOffset", 0) + a.get("byteOffset", 0)
-        return buffers[v["buffer"]][start:start + a["count"] * element_size], a
-
-    meshes = []
-    for mesh in doc["meshes"]:
-        for prim in mesh["primitives"]:
-            name = doc["materials"][prim["material"]]["name"]
-            pos, a = accessor_bytes(prim["attributes"]["POSITION"], 12)
-            assert a["componentType"] == 5126 and a["type"] == "VEC3"
-            count = a["count"]
-            nrm = None
-            if "NORMAL" in prim["attributes"]:
-                nrm, a = accessor_bytes(prim["attributes"]["NORMAL"], 12)
-                assert a["componentType"] == 5126 and a["count"] == count
-            ia = doc["accessors"][prim["indices"]]
-            size = {5123: 2, 5125: 4}[ia["componentType"]]
-            raw, _ = accessor_bytes(prim["indices"], size)
-            idx = struct.unpack("<%d%s" % (ia["count"], "H" if size == 2 else "I"), raw)
-            meshes.append((name, pos, nrm, idx, count, ia["count"] // 3))
-    return meshes
-
-
-def write_ply(path, pos, nrm, idx, vertex_count, face_count):
-    header = ["ply", "format binary_little_endian 1.0", f"element vertex {vertex_count}",
-              "property float x", "property float y", "property float z"]
-    if nrm is not None:
-        header += ["property float nx", "property float ny", "property float nz"]
-    header += [f"element face {face_count}", "property list uchar int vertex_indices", "end_header"]
-    with open(path, "wb") as f:
-        f.write(("\n".join(header) + "\n").encode())
-        for v in range(vertex_count):
-            f.write(pos[12 * v:12 * v + 12])
-            if nrm is not None:
-                f.write(nrm[12 * v:12 * v + 12])
-        for t in range(face_count):
-            f.write(struct.pack("<B3i", 3, *idx[3 * t:3 * t + 3]))
 
 
 def main():
@@ -112,30 +61,16 @@ def main():
 
     gltf = os.path.join(ROOT, "scenes", "specular_spheres.gltf" if args.shading == "smooth" else "specular_spheres_flat.gltf")
     tmp = tempfile.TemporaryDirectory(prefix="mitsuba_specular_")
-    for name, pos, nrm, idx, nv, nf in read_gltf_meshes(gltf):
-        if (nrm is not None) != (args.shading == "smooth"):
-            sys.exit(f"{gltf}: mesh {name} has{'' if nrm is not None else ' no'} normals")
-        ply = os.path.join(tmp.name, name + ".ply")
-        write_ply(ply, pos, nrm, idx, nv, nf)
+    for name, ply, has_normals in gltf_to_ply(gltf, tmp.name):
+        if has_normals != (args.shading == "smooth"):
+            sys.exit(f"{gltf}: mesh {name} has{'' if has_normals else ' no'} normals")
         desc["sphere-" + name] = {"type": "ply", "filename": ply, "face_normals": args.shading == "flat",
                                   "bsdf": dict(BSDFS[name])}
         if name in EMITTERS:
             desc["sphere-" + name]["emitter"] = dict(EMITTERS[name])
     scene, width, height, load_s = load_scene(mi, desc)
 
-    pass_spp, _ = pass_count(args)
-    passes = Passes(mi, np, scene, args)
-    mean, seconds = passes.mean, passes.seconds
-    paths_per_s = width * height * args.spp / seconds
-    print(f"mitsuba {mi.__version__} {args.variant}: {width}x{height}, {args.spp} spp "
-          f"({passes.count} pass(es) of {pass_spp}), max_depth {args.max_depth}, rr_depth {args.rr_depth}, "
-          f"{args.threads} threads, {args.shading} shading: {seconds:.1f} s (+ scene load {load_s:.2f} s), "
-          f"{paths_per_s / 1e6:.3f} M paths/s; "
-          f"mean RGB {mean[..., 0].mean():.5f} {mean[..., 1].mean():.5f} {mean[..., 2].mean():.5f}")
-    print(f"RESULT variant={args.variant} spp={args.spp} threads={args.threads} seconds={seconds:.4f} "
-          f"paths_per_s={paths_per_s:.1f}")
-    if args.output:
-        passes.write_exr(mi, np, args.output)
+    render_and_report(mi, np, scene, args, width, height, load_s, f"{args.shading} shading")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -207,110 +142,15 @@ def region_masks(width, height):
     return masks
 
 
-def load_exr(path):
-    import mitsuba as mi
-    import numpy as np
-    bitmap = mi.Bitmap(path)
-    data = np.array(bitmap, dtype=np.float64)
-    names = [bitmap.struct_()[i].name for i in range(bitmap.channel_count())]
-    ch = {name: data[..., i] for i, name in enumerate(names)}
-    mean = np.stack([ch[c] for c in "RGB"], axis=-1)
-    var = np.stack([ch["variance." + c] for c in "RGB"], axis=-1)
-    return mean, var
-
-
 def analyse(argv):
     ap = argparse.ArgumentParser(prog="mitsuba_specular.py analyse",
                                  description="image and region means, per-pixel Z-tests, verdict")
-    ap.add_argument("tex")
-    ap.add_argument("scalar")
-    ap.add_argument("llvm")
-    ap.add_argument("--alpha", type=float, default=0.01,
-                    help="family-wise false-alarm rate of the region mean tests (Sidak-corrected; default 0.01)")
-    ap.add_argument("--masks-out", default="", help="write the region masks as a PNG (optional)")
+    add_analyse_arguments(ap)
     args = ap.parse_args(argv)
-    import mitsuba as mi
-    import numpy as np
-    mi.set_variant("scalar_rgb")
-    from statistics import NormalDist
-
-    images = {"tex": load_exr(args.tex), "scalar": load_exr(args.scalar), "llvm": load_exr(args.llvm)}
-    h, w = images["tex"][0].shape[:2]
-    masks = region_masks(w, h)
-    if args.masks_out:
-        colours = {"glass sphere": (0.2, 0.5, 1.0), "metal sphere": (0.8, 0.8, 0.8), "water sphere": (0.2, 1.0, 0.6),
-                   "core through water": (1.0, 0.3, 0.1), "glass caustic floor": (1.0, 0.8, 0.1), "rest": (0.1, 0.1, 0.1)}
-        img = np.zeros((h, w, 3), np.float32)
-        for name, col in colours.items():
-            img[masks[name]] = col
-        mi.util.write_bitmap(args.masks_out, img)
-
-    pairs = [("tex", "llvm"), ("tex", "scalar"), ("llvm", "scalar")]  # the last is the control
-    regions = list(masks)
-    tests = len(regions) * 3 * 2  # the region-channel mean tests of the two tex pairs
-    z_crit = NormalDist().inv_cdf(1 - (1 - (1 - args.alpha) ** (1 / tests)) / 2)
-    failures = []
-
-    def mean_se(name, mask):
-        m, v = images[name]
-        n = mask.sum()
-        return m[mask].mean(axis=0), np.sqrt(v[mask].sum(axis=0)) / n
-
-    def ztest(a, b, mask):
-        (ma, va), (mb, vb) = images[a], images[b]
-        var = (va + vb)[mask]
-        ok = var > 0
-        z = ((ma - mb)[mask])[ok] / np.sqrt(var[ok])
-        return float(np.mean(z * z)), float(np.mean(np.abs(z) > 3)), int(ok.sum())
-
-    print("   region means (R G B) +- standard error; ratio tex / Mitsuba and its deviation in sigma")
-    print(f"   (pass: every |deviation| of a tex pair <= {z_crit:.2f} sigma, the Sidak bound for {tests} tests "
-          f"at family-wise {args.alpha:g})")
-    for region in regions:
-        mask = masks[region]
-        print(f"   {region} ({mask.sum()} pixels):")
-        stats = {k: mean_se(k, mask) for k in images}
-        for k in images:
-            m, se = stats[k]
-            label = {"tex": "tex", "scalar": "mitsuba scalar_spectral", "llvm": "mitsuba llvm_ad_spectral"}[k]
-            print("     %-24s %s" % (label, "  ".join("%.5f+-%.5f" % (a, s) for a, s in zip(m, se))))
-        for a, b in pairs:
-            (ma, sa), (mb, sb) = stats[a], stats[b]
-            ratio = ma / mb
-            dev = (ma - mb) / np.sqrt(sa * sa + sb * sb)
-            rse = ratio * np.sqrt((sa / ma) ** 2 + (sb / mb) ** 2)
-            control = a != "tex"
-            bad = (not control) and bool(np.any(np.abs(dev) > z_crit))
-            if bad:
-                failures.append(f"{region}: {a}/{b} deviations {' '.join('%.1f' % x for x in dev)} sigma")
-            print("       %-13s R %.4f  G %.4f  B %.4f  (+- %.4f %.4f %.4f)  deviation %5.1f %5.1f %5.1f sigma%s" %
-                  ((f"{a}/{b}",) + tuple(ratio) + tuple(rse) + tuple(dev) +
-                   ("  (control)" if control else "  FAIL" if bad else "",)))
-
-    print("   per-pixel Z-test (z = difference / sqrt(sum of variances), every pixel channel):")
-    print("     %-22s %-12s %s" % ("region", "pair", "mean z^2   |z|>3"))
-    ztab = {}
-    for region in regions:
-        for a, b in pairs:
-            zz, out, n = ztest(a, b, masks[region])
-            ztab[(region, a, b)] = (zz, out)
-            print("     %-22s %-12s %7.3f  %7.3f %%" % (region, f"{a}/{b}", zz, 100 * out))
-    # Z-test verdict: a tex pair may not be worse than the Mitsuba-only control by more than
-    # noise allows: mean z^2 within 1.25x (+0.1) of the control's, outliers at most twice (+0.5 %).
-    for region in regions:
-        czz, cout = ztab[(region, "llvm", "scalar")]
-        for a, b in pairs[:2]:
-            zz, out = ztab[(region, a, b)]
-            if zz > 1.25 * czz + 0.1 or out > 2 * cout + 0.005:
-                failures.append(f"{region}: Z-test {a}/{b} mean z^2 {zz:.3f}, |z|>3 {100 * out:.2f} % "
-                                f"against the control's {czz:.3f}, {100 * cout:.2f} %")
-    if failures:
-        print("   DISAGREEMENT:")
-        for f in failures:
-            print("     " + f)
-        return 1
-    print("   agreement: all region means within the bound, Z-tests comparable to the control")
-    return 0
+    colours = {"glass sphere": (0.2, 0.5, 1.0), "metal sphere": (0.8, 0.8, 0.8), "water sphere": (0.2, 1.0, 0.6),
+               "core through water": (1.0, 0.3, 0.1), "glass caustic floor": (1.0, 0.8, 0.1), "rest": (0.1, 0.1, 0.1)}
+    return analyse_regions(args, region_masks, colours,
+                           "all region means within the bound, Z-tests comparable to the control")
 
 
 if __name__ == "__main__":

@@ -30,29 +30,19 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 SCENE=scenes/specular-mitsuba.json
-THREADS=${THREADS:-2}
 SPP=${SPP:-1024}
 OUT=${OUT:-build/bench-specular}
-VENV=${VENV:-build/bench-venv}
 SHADINGS=${SHADINGS:-smooth flat}
-mkdir -p "$OUT"
 (( SPP % 16 == 0 )) || { echo "SPP must be a multiple of 16" >&2; exit 2; }
 
-# --- tex and Mitsuba 3 (a venv, idempotent) -----------------------------------------
+# --- tex and Mitsuba 3 (a venv, idempotent); THREADS, VENV defaults ------------------
 source bench/mitsuba_env.sh
 
 # The meshes both renderers read must be what the generator writes.
 "$PY" bench/gen_specular_spheres.py --check >/dev/null
+region_check_setup 256x256 bench/mitsuba_specular.py
 
-MI_DEPTH=8              # Mitsuba: path vertices after the camera
-TEX_DEPTH=$((MI_DEPTH - 1))  # tex: scattering events (scenes/cornell-box-mitsuba.json, _comment)
-RR_DEPTH=5
-TEX_FLAGS=(--res 256x256 --threads "$THREADS" --wavelengths 4 --max-depth "$TEX_DEPTH" --roulette-depth "$RR_DEPTH"
-           --filter box --spp "$SPP" -q)
-MI=("$PY" bench/mitsuba_specular.py --spp "$SPP" --pass-spp $((SPP / 16)) --threads "$THREADS" --max-depth "$MI_DEPTH"
-    --rr-depth "$RR_DEPTH")
-
-echo "== machine: $(nproc) cores, load average $(cut -d' ' -f1-3 /proc/loadavg); $("$PY" -c 'import mitsuba; print("mitsuba", mitsuba.__version__)')"
+print_machine
 status=0
 summary=()
 for shading in $SHADINGS; do
@@ -70,24 +60,8 @@ for shading in $SHADINGS; do
   # are nearly the same image: with one seed their errors there would be the same).
   mode=$([[ $shading == smooth ]] && echo 1 || echo 2)
   echo "== $shading shading: 256x256, $SPP spp each, box filter, $THREADS threads"
-  SECONDS=0
-  "$TEX" render "$scene" -o "$dir/tex.exr" -o "$dir/tex.png" "${TEX_FLAGS[@]}" --seed "$mode" | sed 's/^/   /'
-  echo "   ($SECONDS s)"
-  for v in scalar_spectral llvm_ad_spectral; do
-    SECONDS=0
-    seed=$(( ($([[ $v == scalar_spectral ]] && echo 1 || echo 2) + 2 * mode) * 1000 ))
-    "${MI[@]}" --variant "$v" --shading "$shading" --seed "$seed" -o "$dir/mitsuba_$v.exr" | grep -v '^RESULT' | sed 's/^/   /'
-    echo "   ($SECONDS s)"
-  done
-  compare_pairs "$dir" "tex.exr mitsuba_llvm_ad_spectral.exr" "tex.exr mitsuba_scalar_spectral.exr" \
-    "mitsuba_llvm_ad_spectral.exr mitsuba_scalar_spectral.exr"
-  if "$PY" bench/mitsuba_specular.py analyse "$dir/tex.exr" "$dir/mitsuba_scalar_spectral.exr" \
-       "$dir/mitsuba_llvm_ad_spectral.exr" --masks-out "$dir/regions.png"; then
-    summary+=("$shading: agree")
-  else
-    summary+=("$shading: DISAGREE")
-    status=1
-  fi
+  render_three "$scene" "$dir" "$mode" --shading "$shading"
+  judge "$shading" bench/mitsuba_specular.py "$dir"
 done
 echo "== images in $OUT; verdict: ${summary[*]}"
 exit $status
