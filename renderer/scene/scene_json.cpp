@@ -108,17 +108,19 @@ class SceneJsonLoader {
     if (!r_.string(at, "type", type)) return;
     MeshPrimitive mesh;
     if (type == "sphere") {
-      if (!r_.checkKeys(at, {"type", "name", "material", "transform", "center", "radius", "segments", "rings", "inward"}))
+      if (!r_.checkKeys(at, {"type", "name", "material", "transform", "center", "radius", "segments", "rings", "inward",
+                             "smooth"}))
         return;
       Vec3 center(0.0f);
       float radius = 1;
       int segments = 64, rings = 32;
-      bool inward = false;
+      bool inward = false, smooth = true;
       if (!r_.vec3(at, "center", center) || !r_.number(at, "radius", radius, 1e-30f) ||
           !r_.integer(at, "segments", segments, 3, 4096) || !r_.integer(at, "rings", rings, 2, 4096) ||
-          !r_.boolean(at, "inward", inward))
+          !r_.boolean(at, "inward", inward) || !r_.boolean(at, "smooth", smooth))
         return;
       mesh = makeSphere(center, radius, segments, rings, inward);
+      if (!smooth) mesh.normals.clear();  // flat facets: the renderer shades with face normals
     } else if (type == "quad") {
       if (!r_.checkKeys(at, {"type", "name", "material", "transform", "size", "corner", "edge1", "edge2"})) return;
       Vec3 corner(0.0f), edge1(0.0f), edge2(0.0f);

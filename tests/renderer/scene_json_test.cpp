@@ -316,5 +316,19 @@ TEST(SceneJson, ShapeTransformsAndDefaults) {
             std::string::npos);
 }
 
+TEST(SceneJson, SphereIsSmoothUnlessAskedFlat) {
+  std::vector<std::string> errors;
+  auto scene = parse(R"({"shapes": [{"type": "sphere", "segments": 8, "rings": 4},
+                                    {"type": "sphere", "segments": 8, "rings": 4, "smooth": false}]})",
+                     errors);
+  ASSERT_TRUE(scene) << errors[0];
+  ASSERT_EQ(scene->primitives.size(), 2u);
+  EXPECT_EQ(scene->primitives[0].normals.size(), scene->primitives[0].positions.size());
+  EXPECT_TRUE(scene->primitives[1].normals.empty());  // face normals: flat facets
+  EXPECT_EQ(scene->primitives[1].positions, scene->primitives[0].positions);
+  EXPECT_EQ(scene->primitives[1].indices, scene->primitives[0].indices);
+  EXPECT_NE(firstError(R"({"shapes": [{"type": "sphere", "smooth": 1}]})"), "");
+}
+
 }  // namespace
 }  // namespace tex::render
