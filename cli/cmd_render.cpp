@@ -33,6 +33,7 @@ const char* kRenderUsage =
     "  --threads T         worker threads (default: all cores)\n"
     "  --seed S            sampler seed (default 0); the same seed gives the same image at any thread count\n"
     "  --res WxH           image resolution (default 512x512, or the scene's)\n"
+    "  --crop X,Y,W,H      render only this window of the image (pixels; the output is WxH)\n"
     "  --integrator NAME   path (default; the only one so far)\n"
     "  --max-depth N       scattering events per path (default 8)\n"
     "  --roulette-depth N  Russian roulette may end a path after N scattering events (default 3;\n"
@@ -62,6 +63,7 @@ struct RenderFlags {
   std::string scene, samplesOut, integrator;
   std::vector<std::string> outputs;  // -o may repeat: the same render written to each
   int spp = -1, width = -1, height = -1, maxDepth = -1, rouletteDepth = -1, wavelengths = -1, camera = -1;
+  int crop[4] = {-1, -1, -1, -1};  // X, Y, W, H in pixels of the image; X < 0: no crop
   int64_t seed = -1;
   double timeSeconds = 0;
   int threads = 0;
@@ -70,6 +72,19 @@ struct RenderFlags {
   bool noCache = false, quiet = false;
   render::SpectralMode spectralMode = render::SpectralMode::Mis;
 };
+
+// "X,Y,W,H": four integers, X and Y >= 0, W and H >= 1 (checked against the image later).
+bool parseCrop(const std::string& text, int crop[4]) {
+  std::string rest = text;
+  for (int k = 0; k < 4; ++k) {
+    const size_t comma = rest.find(',');
+    if ((comma == std::string::npos) != (k == 3)) return false;
+    const std::string field = k == 3 ? rest : rest.substr(0, comma);
+    if (!parseIntInRange(field, crop[k], k < 2 ? 0 : 1, 1 << 20)) return false;
+    if (k < 3) rest = rest.substr(comma + 1);
+  }
+  return true;
+}
 
 // Parses flags; returns 0 to go on, else the exit status.
 int parseFlags(const Args& args, RenderFlags& f) {
@@ -96,6 +111,8 @@ int parseFlags(const Args& args, RenderFlags& f) {
       f.seed = int64_t(count);
     } else if (a == "--res") {
       if (!value() || !parseResolution(v, f.width, f.height)) return usage("--res needs WxH, e.g. 640x480");
+    } else if (a == "--crop") {
+      if (!value() || !parseCrop(v, f.crop)) return usage("--crop needs X,Y,W,H in pixels, e.g. 100,50,64,64");
     } else if (a == "--integrator") {
       if (!value()) return usage("--integrator needs a name");
       if (v != "path") return usage("unknown integrator '" + v + "' (available: path)");
@@ -182,6 +199,16 @@ int runRender(const Args& args) {
   if (f.camera >= 0 && size_t(f.camera) >= scene.cameras.size())
     return fail("--camera " + std::to_string(f.camera) + ": the scene has " + std::to_string(scene.cameras.size()) + " camera(s)");
   if (s.wavelengths != 4 && s.wavelengths != 8) return fail("wavelengths per path must be 4 or 8");
+  // The film: the whole image, or the crop window of it.
+  const bool cropped = f.crop[0] >= 0;
+  const int filmX = cropped ? f.crop[0] : 0, filmY = cropped ? f.crop[1] : 0;
+  const int filmWidth = cropped ? f.crop[2] : s.width, filmHeight = cropped ? f.crop[3] : s.height;
+  if (cropped && (int64_t(filmX) + filmWidth > s.width || int64_t(filmY) + filmHeight > s.height))
+    return fail("--crop " + std::to_string(filmX) + "," + std::to_string(filmY) + "," + std::to_string(filmWidth) + "," +
+                std::to_string(filmHeight) + " reaches outside the " + std::to_string(s.width) + "x" +
+                std::to_string(s.height) + " image");
+  if (cropped && !f.samplesOut.empty())
+    return fail("--crop and --samples-out cannot be combined (a sample file covers the whole image)");
 
   render::RenderSceneOptions ro;
   ro.width = s.width;
@@ -202,14 +229,16 @@ int runRender(const Args& args) {
   pts.spectralMode = f.spectralMode;
   pts.filmWidth = s.width;
   pts.filmHeight = s.height;
+  pts.crop = {float(filmX) / float(s.width), float(filmY) / float(s.height), float(filmX + filmWidth) / float(s.width),
+              float(filmY + filmHeight) / float(s.height)};
   const render::PathTracer tracer(*rs, sampler, pts);
 
   FilmSettings film;
-  film.width = s.width;
-  film.height = s.height;
+  film.width = filmWidth;
+  film.height = filmHeight;
   film.filter = f.filter;
   film.valueKind = ValueKind::SpectralRadianceOverPdf;
-  const runtime::IndexRange range{0, uint64_t(s.width) * uint64_t(s.height) * uint64_t(s.spp)};
+  const runtime::IndexRange range{0, uint64_t(filmWidth) * uint64_t(filmHeight) * uint64_t(s.spp)};
 
   SampleFileWriter writer;
   std::unique_ptr<SampleFileSink> fileSink;
@@ -241,9 +270,13 @@ int runRender(const Args& args) {
   runtime::ProgressReporter progress("tex render", range.size(), f.timeSeconds, f.quiet ? nullptr : stderr);
   options.progress = &progress;
   if (!f.quiet)
-    std::fprintf(stderr, "tex render: %s: %llu triangles, %zu lights (%d emissive triangles), %dx%d, %d spp, %d wavelengths, max depth %d; scene ready in %.2f s (materials %.1f ms%s)\n",
+    std::fprintf(stderr, "tex render: %s: %llu triangles, %zu lights (%d emissive triangles), %dx%d%s, %d spp, %d wavelengths, max depth %d; scene ready in %.2f s (materials %.1f ms%s)\n",
                  f.scene.c_str(), (unsigned long long)rs->geometry().triangleCount(), rs->lights().size(),
-                 rs->triangleLightCount(), s.width, s.height, s.spp, s.wavelengths, s.maxDepth, rs->buildSeconds(),
+                 rs->triangleLightCount(), s.width, s.height,
+                 cropped ? (" cropped to " + std::to_string(filmWidth) + "x" + std::to_string(filmHeight) + " at " +
+                            std::to_string(filmX) + "," + std::to_string(filmY)).c_str()
+                         : "",
+                 s.spp, s.wavelengths, s.maxDepth, rs->buildSeconds(),
                  rs->materials().compileReport().compileMs, rs->materials().compileReport().cacheHit ? ", cached" : "");
   progress.start();
   const runtime::SchedulerResult result = runtime::runStream<SampleRecord>(
@@ -255,7 +288,7 @@ int runRender(const Args& args) {
 
   const render::PathCounters counters = tracer.counters();
   const DevelopedImage image = filmSink.film().develop();
-  const std::map<std::string, std::string> metadata = {
+  std::map<std::string, std::string> metadata = {
       {"tex.scene", f.scene},
       {"tex.samples", std::to_string(result.samplesDone)},
       {"tex.indexRanges", runtime::formatRanges(result.completed)},
@@ -268,6 +301,9 @@ int runRender(const Args& args) {
       {"tex.spectralMode", render::spectralModeName(f.spectralMode)},
       {"tex.filter", filterName(f.filter)},
       {"tex.nonFiniteSamples", std::to_string(counters.nonFiniteSamples)}};
+  if (cropped)
+    metadata["tex.crop"] = std::to_string(filmX) + "," + std::to_string(filmY) + "," + std::to_string(filmWidth) + "," +
+                           std::to_string(filmHeight) + " of " + std::to_string(s.width) + "x" + std::to_string(s.height);
   for (const std::string& output : f.outputs) {
     const bool png = std::filesystem::path(output).extension() == ".png";
     const std::string e = png ? writeRgbImage(output, image.rgbImage()) : writeExr(output, image.toExr(true, false, metadata));
@@ -279,7 +315,7 @@ int runRender(const Args& args) {
   const double seconds = std::max(result.seconds, 1e-9);
   std::printf("%s: %llu samples (%.2f spp) in %.2f s, %s samples/s, %s rays/s, %d threads%s; %llu NaN/Inf samples zeroed%s -> %s\n",
               f.scene.c_str(), (unsigned long long)result.samplesDone,
-              double(result.samplesDone) / double(uint64_t(s.width) * uint64_t(s.height)), seconds,
+              double(result.samplesDone) / double(uint64_t(filmWidth) * uint64_t(filmHeight)), seconds,
               formatRate(double(result.samplesDone) / seconds).c_str(), formatRate(double(counters.rays) / seconds).c_str(),
               result.workerSlots,
               result.cancelled ? " (interrupted: partial image)" : result.timeBudgetReached ? " (time budget reached)" : "",

@@ -101,9 +101,13 @@ SampleRecord PathTracer::record(uint64_t index) const {
   Wavelengths lambda = color::sampleWavelengthGroup(samples.get(sampling::kWavelengthDimension), settings_.wavelengths);
   rec.wavelengthCount = uint8_t(lambda.count);
   const Vec2 uLens(samples.get(kLensDimension), samples.get(kLensDimension + 1));
-  const CameraRay cr = scene_.camera().generateRay(film, uLens);
+  // Where the sample lies on the camera's image (the same position without a crop window:
+  // 0 + x * 1 is exact).
+  const PathTracerSettings::Window& w = settings_.crop;
+  const sampling::FilmPosition onImage{w.x0 + film.x * (w.x1 - w.x0), w.y0 + film.y * (w.y1 - w.y0)};
+  const CameraRay cr = scene_.camera().generateRay(onImage, uLens);
   Spectrum L;
-  if (cr.weight > 0.0f) L = radiance(samples, cr.ray, PixelFootprint{film, uLens}, lambda, counters) * cr.weight;
+  if (cr.weight > 0.0f) L = radiance(samples, cr.ray, PixelFootprint{onImage, uLens}, lambda, counters) * cr.weight;
   bool finite = true;
   for (int j = 0; j < lambda.count; ++j) {
     rec.lambdaNm[j] = lambda.lambdaNm[j];

@@ -39,9 +39,15 @@ struct PathTracerSettings {
   // estimator is tested against; it cannot see point or directional lights.
   bool nextEventEstimation = true;
   SpectralMode spectralMode = SpectralMode::Mis;
-  // The film's pixel grid, for the pixel footprint of camera rays (ray differentials at the
-  // first hit; textures filter with it). 0: no differentials.
+  // The camera image's pixel grid, for the pixel footprint of camera rays (ray differentials at
+  // the first hit; textures filter with it). 0: no differentials.
   int filmWidth = 0, filmHeight = 0;
+  // The window of the camera image the film covers (fractions of it, x right, y down): the
+  // samples' film positions span the window, and their records' positions are relative to it.
+  // The whole image by default; filmWidth/filmHeight stay the whole image's pixels.
+  struct Window {
+    float x0 = 0, y0 = 0, x1 = 1, y1 = 1;
+  } crop;
 };
 
 class PathTracer {

@@ -29,6 +29,16 @@ for mode in mis terminate single; do
   expect_exit 0 "spectral mode $mode" "$tex" render "$src/scenes/default.json" --spp 1 --res 16x16 --spectral-mode $mode -q -o "$tmp/m.png"
 done
 expect_exit 0 "help" "$tex" render --help
+# A crop window: the output is the window's size and records where it came from; windows
+# outside the image, malformed ones, and a crop with a sample file are refused.
+expect_exit 0 "crop" "$tex" render "$scene" --spp 2 --res 32x32 --crop 8,4,16,12 -q -o "$tmp/crop.exr"
+expect_exit 0 "compare crop" "$tex" compare --json "$tmp/crop.exr" "$tmp/crop.exr"
+echo "$out" | grep -q '"width": 16, "height": 12' || fail "the cropped render is not 16x12: $out"
+expect_exit 1 "crop outside" "$tex" render "$scene" --res 32x32 --crop 20,0,16,8 -q -o "$tmp/x.exr"
+echo "$out" | grep -q "reaches outside the 32x32 image" || fail "crop outside: unclear error: $out"
+expect_exit 2 "crop malformed" "$tex" render "$scene" --crop 1,2,3 -q -o "$tmp/x.exr"
+expect_exit 2 "crop empty" "$tex" render "$scene" --crop 0,0,0,4 -q -o "$tmp/x.exr"
+expect_exit 1 "crop with samples" "$tex" render "$scene" --res 32x32 --crop 0,0,8,8 --samples-out "$tmp/c.samples" -q -o "$tmp/x.exr"
 # The roulette depth reaches the path tracer: later roulette, longer paths (more rays per
 # sample, from the summary's samples/s and rays/s), and the EXR records it.
 rays_per_sample() {

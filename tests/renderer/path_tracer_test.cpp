@@ -236,5 +236,70 @@ TEST(PathTracer, FirstHitCarriesThePixelFootprint) {
   }
 }
 
+// A crop window (PathTracerSettings::crop) renders the whole image's pixels: its film covers the
+// window and the camera sees the window's part of its image. Compared pixel by pixel with the
+// whole image rendered at the same samples per pixel (box filter, so a pixel's samples are the
+// same in both; per-pixel Z-test on the variance channels).
+TEST(PathTracer, CropWindowRendersTheWholeImagesPixels) {
+  const std::string file = writeTexModule("crop_window", "export fn red(h: Hit) -> Material = diffuse(rgb(0.8, 0.2, 0.1))\n");
+  SceneDescription scene = oneObjectScene(makeSphere(Vec3(0.3f, 0.1f, 0.0f), 1.0f, 48, 24, false), file, "red", Vec3(0.0f, 0.0f, 3.0f));
+  LightDesc sun;
+  sun.kind = LightDesc::Kind::Directional;
+  sun.direction = glm::normalize(Vec3(-1.0f, -1.0f, -0.5f));
+  scene.lights.push_back(sun);
+  scene.lights.push_back(constantSky(0.3f));
+  RenderSceneOptions o;
+  o.width = o.height = 32;
+  o.useCache = false;
+  std::string error;
+  std::unique_ptr<RenderScene> rs = RenderScene::build(scene, o, error);
+  ASSERT_TRUE(rs) << error;
+  constexpr int kSpp = 64, kX = 6, kY = 10, kW = 20, kH = 12;
+  const auto render = [&](int width, int height, const PathTracerSettings& settings) {
+    const PathTracer tracer(*rs, sampling::Sampler(sampling::SamplerKind::Sobol, 5), settings);
+    FilmSettings fs;
+    fs.width = width;
+    fs.height = height;
+    fs.filter = FilterKind::Box;
+    FilmSink sink(fs);
+    std::vector<runtime::Sink<SampleRecord>*> sinks = {&sink};
+    runtime::SchedulerOptions options;
+    options.threads = 2;
+    runtime::runStream<SampleRecord>({0, uint64_t(width) * uint64_t(height) * kSpp}, options, tracer,
+                                     std::span<runtime::Sink<SampleRecord>* const>(sinks));
+    return sink.film().develop();
+  };
+  PathTracerSettings settings;
+  settings.filmWidth = settings.filmHeight = 32;
+  const DevelopedImage whole = render(32, 32, settings);
+  settings.crop = {kX / 32.0f, kY / 32.0f, (kX + kW) / 32.0f, (kY + kH) / 32.0f};
+  const DevelopedImage window = render(kW, kH, settings);
+  ASSERT_EQ(window.width, kW);
+  ASSERT_EQ(window.height, kH);
+  double sumZ2 = 0;
+  int tested = 0, outliers = 0;
+  double meanWhole = 0, meanWindow = 0;
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x)
+      for (int c = 0; c < 3; ++c) {
+        const size_t a = (size_t(y + kY) * 32 + size_t(x + kX)) * 3 + size_t(c), b = (size_t(y) * kW + size_t(x)) * 3 + size_t(c);
+        meanWhole += whole.rgb[a];
+        meanWindow += window.rgb[b];
+        const double variance = double(whole.variance[a]) + double(window.variance[b]);
+        if (!(variance > 0.0)) {
+          EXPECT_EQ(whole.rgb[a], window.rgb[b]);  // no noise (the sky alone): the same value
+          continue;
+        }
+        const double z = (double(whole.rgb[a]) - double(window.rgb[b])) / std::sqrt(variance);
+        sumZ2 += z * z;
+        outliers += std::fabs(z) > 4.0;
+        ++tested;
+      }
+  ASSERT_GT(tested, kW * kH);  // the sphere's lit and shadowed pixels are noisy
+  EXPECT_LT(sumZ2 / tested, 1.5) << "mean z^2 over " << tested << " pixel channels";
+  EXPECT_LE(outliers, tested / 200);
+  EXPECT_NEAR(meanWindow / meanWhole, 1.0, 0.02);
+}
+
 }  // namespace
 }  // namespace tex::render
