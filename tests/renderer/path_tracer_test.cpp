@@ -146,13 +146,31 @@ TEST(PathTracer, WhiteFurnaceForLosslessMaterials) {
   }
 }
 
-// Renders through the stream runtime into a film with the given thread count.
-FilmAccumulator renderFilm(const RenderScene& rs, int threads, uint64_t samples) {
+// A scene built for a square image of `size` pixels, without the JIT's disk cache.
+std::unique_ptr<RenderScene> buildSquare(const SceneDescription& scene, int size) {
+  RenderSceneOptions o;
+  o.width = o.height = size;
+  o.useCache = false;
+  std::string error;
+  std::unique_ptr<RenderScene> rs = RenderScene::build(scene, o, error);
+  EXPECT_TRUE(rs) << error;
+  return rs;
+}
+
+struct FilmOptions {
+  int width = 32, height = 32;
+  FilterKind filter = FilterKind::Tent;
+  uint64_t seed = 11;
   PathTracerSettings settings;
-  const PathTracer tracer(rs, sampling::Sampler(sampling::SamplerKind::Sobol, 11), settings);
+};
+
+// Renders through the stream runtime into a film with the given thread count.
+FilmAccumulator renderFilm(const RenderScene& rs, int threads, uint64_t samples, const FilmOptions& f = {}) {
+  const PathTracer tracer(rs, sampling::Sampler(sampling::SamplerKind::Sobol, f.seed), f.settings);
   FilmSettings fs;
-  fs.width = fs.height = 32;
-  fs.filter = FilterKind::Tent;
+  fs.width = f.width;
+  fs.height = f.height;
+  fs.filter = f.filter;
   FilmSink sink(fs);
   std::vector<runtime::Sink<SampleRecord>*> sinks = {&sink};
   runtime::SchedulerOptions options;
@@ -174,12 +192,8 @@ TEST(PathTracer, SpectralFurnaceDevelopsToTheIlluminantsColourAndIsThreadCountIn
   sky.emission.kind = SpectrumDesc::Kind::Rgb;
   sky.emission.rgb = Vec3(1.0f);
   scene.lights.push_back(sky);
-  RenderSceneOptions o;
-  o.width = o.height = 32;
-  o.useCache = false;
-  std::string error;
-  std::unique_ptr<RenderScene> rs = RenderScene::build(scene, o, error);
-  ASSERT_TRUE(rs) << error;
+  const std::unique_ptr<RenderScene> rs = buildSquare(scene, 32);
+  ASSERT_TRUE(rs);
   const FilmAccumulator one = renderFilm(*rs, 1, 32 * 32 * 64);
   const FilmAccumulator two = renderFilm(*rs, 2, 32 * 32 * 64);
   EXPECT_TRUE(one.sums() == two.sums());
@@ -248,32 +262,18 @@ TEST(PathTracer, CropWindowRendersTheWholeImagesPixels) {
   sun.direction = glm::normalize(Vec3(-1.0f, -1.0f, -0.5f));
   scene.lights.push_back(sun);
   scene.lights.push_back(constantSky(0.3f));
-  RenderSceneOptions o;
-  o.width = o.height = 32;
-  o.useCache = false;
-  std::string error;
-  std::unique_ptr<RenderScene> rs = RenderScene::build(scene, o, error);
-  ASSERT_TRUE(rs) << error;
+  const std::unique_ptr<RenderScene> rs = buildSquare(scene, 32);
+  ASSERT_TRUE(rs);
   constexpr int kSpp = 64, kX = 6, kY = 10, kW = 20, kH = 12;
-  const auto render = [&](int width, int height, const PathTracerSettings& settings) {
-    const PathTracer tracer(*rs, sampling::Sampler(sampling::SamplerKind::Sobol, 5), settings);
-    FilmSettings fs;
-    fs.width = width;
-    fs.height = height;
-    fs.filter = FilterKind::Box;
-    FilmSink sink(fs);
-    std::vector<runtime::Sink<SampleRecord>*> sinks = {&sink};
-    runtime::SchedulerOptions options;
-    options.threads = 2;
-    runtime::runStream<SampleRecord>({0, uint64_t(width) * uint64_t(height) * kSpp}, options, tracer,
-                                     std::span<runtime::Sink<SampleRecord>* const>(sinks));
-    return sink.film().develop();
-  };
-  PathTracerSettings settings;
-  settings.filmWidth = settings.filmHeight = 32;
-  const DevelopedImage whole = render(32, 32, settings);
-  settings.crop = {kX / 32.0f, kY / 32.0f, (kX + kW) / 32.0f, (kY + kH) / 32.0f};
-  const DevelopedImage window = render(kW, kH, settings);
+  FilmOptions f;
+  f.filter = FilterKind::Box;
+  f.seed = 5;
+  f.settings.filmWidth = f.settings.filmHeight = 32;
+  const DevelopedImage whole = renderFilm(*rs, 2, 32 * 32 * kSpp, f).develop();
+  f.width = kW;
+  f.height = kH;
+  f.settings.crop = {kX / 32.0f, kY / 32.0f, (kX + kW) / 32.0f, (kY + kH) / 32.0f};
+  const DevelopedImage window = renderFilm(*rs, 2, uint64_t(kW) * kH * kSpp, f).develop();
   ASSERT_EQ(window.width, kW);
   ASSERT_EQ(window.height, kH);
   double sumZ2 = 0;
