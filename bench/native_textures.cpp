@@ -9,6 +9,8 @@
 #include <cstdint>
 #include <limits>
 
+#include "renderer/sampling/hash.h"
+
 namespace tex::bench {
 namespace {
 
@@ -85,15 +87,8 @@ inline V2 hitUv(const HitAbi& h) { return {h.uv[0], h.uv[1]}; }
 
 // --- std.math hashes ------------------------------------------------------------------------
 
-// lowbias32
-inline uint32_t hash(uint32_t x) {
-  x ^= x >> 16;
-  x *= 0x7feb352du;
-  x ^= x >> 15;
-  x *= 0x846ca68bu;
-  x ^= x >> 16;
-  return x;
-}
+// std.math's hash is lowbias32.
+inline uint32_t hash(uint32_t x) { return sampling::lowbias32(x); }
 inline uint32_t hash2i(uint32_t x, uint32_t y, uint32_t seed = 0) {
   return hash(x * 0x1b873593u + y * 0x5bd1e995u + seed * 0x27d4eb2du + 0x165667b1u);
 }

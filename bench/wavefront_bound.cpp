@@ -92,13 +92,7 @@ const Scene& theScene(bool robust) {
 // U: uint32_t or a vector of them.
 template <class U>
 U hashBits(U path, U dim) {
-  U x = path * 0x9E3779B9u ^ (dim + 0x7F4A7C15u) * 0x85EBCA6Bu;
-  x ^= x >> 16;
-  x *= 0x7feb352du;
-  x ^= x >> 15;
-  x *= 0x846ca68bu;
-  x ^= x >> 16;
-  return x;
+  return sampling::lowbias32<U>(path * 0x9E3779B9u ^ (dim + 0x7F4A7C15u) * 0x85EBCA6Bu);
 }
 inline float rnd(uint32_t path, uint32_t dim) {
   return sampling::bitsToUnitFloat(hashBits(path, dim));

@@ -17,7 +17,6 @@ struct PairCosines {
   float woNs, wiNs, woNg, wiNg;
 };
 
-// Lanes 4-7 all zero (a NaN lane is not).
 bool degenerate(float cosTheta) { return !(std::fabs(cosTheta) >= kMinCosTheta); }  // also NaN
 
 // Light leaks: a direction counts only when the shading and the geometric normal agree on

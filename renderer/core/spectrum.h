@@ -67,7 +67,8 @@ struct Spectrum {
     return true;
 #endif
   }
-  // Lanes 4-7 all zero: a group of 4 wavelengths, whose per-lane loops may stop at lane 4.
+  // Lanes 4-7 all zero (a NaN lane is not): a group of 4 wavelengths, whose per-lane loops may
+  // stop at lane 4.
   bool upperLanesZero() const {
 #if defined(__SSE2__)
     return _mm_movemask_ps(_mm_cmpneq_ps(_mm_load_ps(v + 4), _mm_setzero_ps())) == 0;

@@ -28,19 +28,16 @@ int PiecewiseConstant1D::searchWhole(double target) const {
 PiecewiseConstant1D::Sample PiecewiseConstant1D::sample(float u) const {
   const double target = double(u) * total_;
   const int n = size();
-  // The guide brackets the answer: at least lo when cdf_[lo] <= target, at most hi when
-  // target < cdf_[hi + 1]. Both hold: k = floor(u * intervals) is exact in double, so
-  // k / intervals <= u < (k + 1) / intervals, and rounding is monotonic. The check costs two
-  // compares and keeps the whole search's cell should that argument ever fail.
+  // The guide brackets the answer: searchWhole(target) lies in [lo, hi]. k = floor(u * intervals)
+  // is exact in double, so k / intervals <= u < (k + 1) / intervals, and rounding is monotonic:
+  // the guide's targets satisfy T_k <= target <= T_(k+1), hence cdf_[lo] <= target and, when
+  // hi < n, target < cdf_[hi + 1] (PiecewiseConstant.GuidedSearchPicksTheWholeSearchsCellBitForBit
+  // checks u on both sides of every guide boundary).
   const int intervals = int(guide_.size()) - 1;
   const int k = std::clamp(int(double(u) * double(intervals)), 0, intervals - 1);
   const int lo = guide_[size_t(k)], hi = guide_[size_t(k) + 1];
-  int i;
-  if (cdf_[size_t(lo)] <= target && (hi >= n || target < cdf_[size_t(hi) + 1]))
-    i = lo + int(std::upper_bound(cdf_.begin() + 1 + lo, cdf_.begin() + 1 + std::min(hi, n), target) -
-                 (cdf_.begin() + 1 + lo));
-  else
-    i = searchWhole(target);
+  int i = lo + int(std::upper_bound(cdf_.begin() + 1 + lo, cdf_.begin() + 1 + std::min(hi, n), target) -
+                   (cdf_.begin() + 1 + lo));
   i = std::min(i, n - 1);
   while (i > 0 && weights_[size_t(i)] == 0.0f) --i;  // u rounded to the end of the range
   while (i < n - 1 && weights_[size_t(i)] == 0.0f) ++i;

@@ -184,7 +184,9 @@ TEST(BsdfLayer, CoatUsesTheHeroIorInEveryLaneUnlessItVaries) {
       ASSERT_EQ(sHero.has_value(), sIgnored.has_value());
       for (int lane = 0; lane < kLanes; ++lane) {
         ASSERT_EQ(fHero[lane], fIgnored[lane]) << "lane " << lane;
-        if (sHero) ASSERT_EQ(sHero->f[lane], sIgnored->f[lane]) << "lane " << lane;
+        if (sHero) {
+          ASSERT_EQ(sHero->f[lane], sIgnored->f[lane]) << "lane " << lane;
+        }
       }
       ASSERT_EQ(fHero[0], fUsed[0]);  // the hero's own IOR is 1.5 either way
       for (int lane = 1; lane < 4; ++lane) {
