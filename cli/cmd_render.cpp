@@ -269,9 +269,13 @@ int runRender(const Args& args) {
   options.cancel = &cancel;
   runtime::ProgressReporter progress("tex render", range.size(), f.timeSeconds, f.quiet ? nullptr : stderr);
   options.progress = &progress;
+  const uint64_t storedTriangles = rs->geometry().storedTriangleCount();
+  const std::string distinctTriangles = storedTriangles == rs->geometry().triangleCount()
+                                            ? std::string()
+                                            : " (" + std::to_string(storedTriangles) + " distinct)";
   if (!f.quiet)
-    std::fprintf(stderr, "tex render: %s: %llu triangles, %zu lights (%d emissive triangles), %dx%d%s, %d spp, %d wavelengths, max depth %d; scene ready in %.2f s (materials %.1f ms%s)\n",
-                 f.scene.c_str(), (unsigned long long)rs->geometry().triangleCount(), rs->lights().size(),
+    std::fprintf(stderr, "tex render: %s: %llu triangles%s, %zu lights (%d emissive triangles), %dx%d%s, %d spp, %d wavelengths, max depth %d; scene ready in %.2f s (materials %.1f ms%s)\n",
+                 f.scene.c_str(), (unsigned long long)rs->geometry().triangleCount(), distinctTriangles.c_str(), rs->lights().size(),
                  rs->triangleLightCount(), s.width, s.height,
                  cropped ? (" cropped to " + std::to_string(filmWidth) + "x" + std::to_string(filmHeight) + " at " +
                             std::to_string(filmX) + "," + std::to_string(filmY)).c_str()

@@ -3,6 +3,7 @@
 #include <embree3/rtcore.h>
 
 #include "renderer/geometry/alpha_test.h"
+#include "renderer/geometry/equal_primitives.h"
 
 #include <cmath>
 #include <cstddef>
@@ -95,7 +96,8 @@ void writeEmbreeRay(const Ray& ray, RTCRay& r) {
 
 struct SceneGeometry::Impl {
   struct Instance {
-    int primitive = 0;
+    int primitive = 0;      // SceneDescription::primitives index: its material
+    int triangleData = 0;   // the first primitive with the same triangles: vertex data read from it
     Mat4 toWorld{1.0f};
     glm::mat3 normalToWorld{1.0f};
     bool flipWinding = false;
@@ -109,7 +111,7 @@ struct SceneGeometry::Impl {
   std::string error;
   RTCDevice device = nullptr;
   RTCScene top = nullptr;
-  std::vector<RTCScene> childScenes;  // per primitive (instanced ones only)
+  std::vector<RTCScene> childScenes;  // per primitive (the first of equal ones, instanced ones only)
   std::vector<Instance> instances;
   std::vector<int> instanceOfTopGeometry;  // Embree top-level geomID -> instance
   std::vector<std::unique_ptr<AlphaTest>> alphaTests;  // per primitive with a cut-out material
@@ -140,11 +142,15 @@ struct SceneGeometry::Impl {
 
   // Cut-out (alphaMode MASK) and blended (BLEND) glTF materials: Embree's filter functions
   // make rays (closest-hit and shadow alike) pass through the transparent parts.
-  void attachAlphaTest(RTCGeometry g, int primitive) {
+  bool needsAlphaTest(int primitive) const {
     const MeshPrimitive& prim = scene->primitives[size_t(primitive)];
-    if (prim.material < 0 || size_t(prim.material) >= scene->materials.size()) return;
+    if (prim.material < 0 || size_t(prim.material) >= scene->materials.size()) return false;
+    return scene->materials[size_t(prim.material)].alphaMode != GltfMaterial::AlphaMode::Opaque;
+  }
+  void attachAlphaTest(RTCGeometry g, int primitive) {
+    if (!needsAlphaTest(primitive)) return;
+    const MeshPrimitive& prim = scene->primitives[size_t(primitive)];
     const GltfMaterial& m = scene->materials[size_t(prim.material)];
-    if (m.alphaMode == GltfMaterial::AlphaMode::Opaque) return;
     auto test = std::make_unique<AlphaTest>(*scene, prim, m);
     rtcSetGeometryUserData(g, test.get());
     rtcSetGeometryIntersectFilterFunction(g, AlphaTest::embreeFilter);
@@ -156,7 +162,7 @@ struct SceneGeometry::Impl {
     return inst.worldPositions.empty() ? nullptr : inst.worldPositions.data();
   }
   void worldVertices(const Instance& inst, uint32_t triangle, Vec3 p[3], uint32_t vi[3]) const {
-    const MeshPrimitive& prim = scene->primitives[size_t(inst.primitive)];
+    const MeshPrimitive& prim = scene->primitives[size_t(inst.triangleData)];
     for (int k = 0; k < 3; ++k) {
       vi[k] = prim.indices[size_t(triangle) * 3 + size_t(k)];
       p[k] = inst.worldPositions.empty() ? transformPoint(inst.toWorld, prim.positions[vi[k]]) : inst.worldPositions[vi[k]];
@@ -166,7 +172,8 @@ struct SceneGeometry::Impl {
 
 SceneGeometry::~SceneGeometry() = default;
 
-std::unique_ptr<SceneGeometry> SceneGeometry::build(const SceneDescription& scene, std::string& error) {
+std::unique_ptr<SceneGeometry> SceneGeometry::build(const SceneDescription& scene, std::string& error,
+                                                    const GeometryBuildOptions& options) {
   std::unique_ptr<SceneGeometry> geometry(new SceneGeometry());
   geometry->impl_ = std::make_unique<Impl>();
   Impl& im = *geometry->impl_;
@@ -181,9 +188,14 @@ std::unique_ptr<SceneGeometry> SceneGeometry::build(const SceneDescription& scen
   rtcSetSceneFlags(im.top, RTC_SCENE_FLAG_ROBUST);
   rtcSetSceneBuildQuality(im.top, RTC_BUILD_QUALITY_HIGH);
 
-  std::vector<int> usesOfPrimitive(scene.primitives.size(), 0);
+  // Equal triangles are one geometry whoever uses them (a primitive per material, or per node).
+  std::vector<bool> shareable(scene.primitives.size());
+  for (size_t p = 0; p < scene.primitives.size(); ++p) shareable[p] = !im.needsAlphaTest(int(p));
+  const std::vector<int> triangleData = firstEqualPrimitive(scene, shareable);
+  std::vector<int> usesOfTriangles(scene.primitives.size(), 0);
   for (const MeshInstance& inst : scene.instances)
-    if (inst.primitive >= 0 && size_t(inst.primitive) < scene.primitives.size()) ++usesOfPrimitive[size_t(inst.primitive)];
+    if (inst.primitive >= 0 && size_t(inst.primitive) < scene.primitives.size())
+      ++usesOfTriangles[size_t(triangleData[size_t(inst.primitive)])];
   im.childScenes.assign(scene.primitives.size(), nullptr);
   im.instances.resize(scene.instances.size());
 
@@ -197,6 +209,7 @@ std::unique_ptr<SceneGeometry> SceneGeometry::build(const SceneDescription& scen
     if (prim.indices.empty()) continue;
     Impl::Instance inst;
     inst.primitive = desc.primitive;
+    inst.triangleData = triangleData[size_t(desc.primitive)];
     inst.toWorld = desc.objectToWorld;
     const glm::mat3 linear(desc.objectToWorld);
     const float det = glm::determinant(linear);
@@ -209,7 +222,8 @@ std::unique_ptr<SceneGeometry> SceneGeometry::build(const SceneDescription& scen
     inst.valid = true;
     const int instanceIndex = int(i);
     unsigned geomId = RTC_INVALID_GEOMETRY_ID;
-    if (usesOfPrimitive[size_t(desc.primitive)] == 1) {
+    const uint64_t extraCopies = uint64_t(usesOfTriangles[size_t(inst.triangleData)] - 1) * (prim.indices.size() / 3);
+    if (extraCopies == 0 || extraCopies <= options.maxBakedCopyTriangles) {
       inst.worldPositions.resize(prim.positions.size());
       for (size_t v = 0; v < prim.positions.size(); ++v) {
         inst.worldPositions[v] = transformPoint(desc.objectToWorld, prim.positions[v]);
@@ -234,6 +248,7 @@ std::unique_ptr<SceneGeometry> SceneGeometry::build(const SceneDescription& scen
             frame.flatNs = worldShadingNormal(inst.normalToWorld, n0, frame.ng);
         }
       }
+      geometry->storedTriangleCount_ += prim.indices.size() / 3;
       RTCGeometry g = im.makeTriangles(inst.worldPositions, prim.indices);
       if (!g) break;
       im.attachAlphaTest(g, desc.primitive);
@@ -241,7 +256,7 @@ std::unique_ptr<SceneGeometry> SceneGeometry::build(const SceneDescription& scen
       geomId = rtcAttachGeometry(im.top, g);
       rtcReleaseGeometry(g);
     } else {
-      RTCScene& child = im.childScenes[size_t(desc.primitive)];
+      RTCScene& child = im.childScenes[size_t(inst.triangleData)];
       if (!child) {
         child = rtcNewScene(im.device);
         rtcSetSceneFlags(child, RTC_SCENE_FLAG_ROBUST);
@@ -253,6 +268,7 @@ std::unique_ptr<SceneGeometry> SceneGeometry::build(const SceneDescription& scen
         rtcAttachGeometry(child, g);
         rtcReleaseGeometry(g);
         rtcCommitScene(child);
+        geometry->storedTriangleCount_ += prim.indices.size() / 3;
       }
       RTCGeometry g = rtcNewGeometry(im.device, RTC_GEOMETRY_TYPE_INSTANCE);
       rtcSetGeometryInstancedScene(g, child);
@@ -317,7 +333,7 @@ void SceneGeometry::triangleWorld(int instance, uint32_t triangle, Vec3 p[3], Ve
   const Impl::Instance& inst = impl_->instances[size_t(instance)];
   uint32_t vi[3];
   impl_->worldVertices(inst, triangle, p, vi);
-  const MeshPrimitive& prim = impl_->scene->primitives[size_t(inst.primitive)];
+  const MeshPrimitive& prim = impl_->scene->primitives[size_t(inst.triangleData)];
   for (int k = 0; k < 3; ++k) uv[k] = prim.uv0.empty() ? Vec2(0.0f) : prim.uv0[vi[k]];
   Vec3 n = glm::cross(p[1] - p[0], p[2] - p[0]);
   const float len = glm::length(n);
@@ -327,7 +343,9 @@ void SceneGeometry::triangleWorld(int instance, uint32_t triangle, Vec3 p[3], Ve
 
 void SceneGeometry::fillHit(int instance, uint32_t triangle, float b1, float b2, SurfaceHit& hit) const {
   const Impl::Instance& inst = impl_->instances[size_t(instance)];
-  const MeshPrimitive& prim = impl_->scene->primitives[size_t(inst.primitive)];
+  // Vertex data from the first primitive with these triangles (equal bits, and one copy in
+  // the cache however many materials share it); the material is the instance's own.
+  const MeshPrimitive& prim = impl_->scene->primitives[size_t(inst.triangleData)];
   Vec3 p[3];
   uint32_t vi[3];
   impl_->worldVertices(inst, triangle, p, vi);
@@ -335,7 +353,7 @@ void SceneGeometry::fillHit(int instance, uint32_t triangle, float b1, float b2,
   hit.instance = instance;
   hit.primitive = inst.primitive;
   hit.triangle = triangle;
-  hit.material = prim.material;
+  hit.material = impl_->scene->primitives[size_t(inst.primitive)].material;
   hit.p = p[0] * b0 + p[1] * b1 + p[2] * b2;
   Vec2 uv[3];
   if (!prim.uv0.empty())

@@ -1,7 +1,10 @@
 // The scene's triangles in Embree 3: ray queries and the hit geometry the renderer shades.
-// A primitive used by one node is baked into world space in the top-level BVH; a primitive
-// shared by several nodes is built once and instanced (Embree instances), so files such as
-// MetalRoughSpheresNoTextures (1 M instanced triangles from 12 k distinct) stay small.
+// Triangles used once are baked into world space in the top-level BVH. Triangles used more
+// than once (a primitive shared by several nodes, or equal primitives of meshes that differ
+// only in material) are built once and instanced (Embree instances) when their copies would be
+// large, so files such as MetalRoughSpheresNoTextures (1 M triangles, 12 k distinct) stay small
+// (and trace faster: the copies' BVH missed the cache); small ones are baked per use, since a
+// ray through an instance pays for a second BVH and a transform.
 // Single rays for now; the interface leaves room for packets.
 #pragma once
 #include <memory>
@@ -35,10 +38,20 @@ struct SurfaceHit {
   int material = -1;   // the primitive's glTF material (-1: default)
 };
 
+struct GeometryBuildOptions {
+  // Triangles used n > 1 times are instanced when their extra copies, (n - 1) x their count,
+  // would exceed this (about 10 MB of copies with their BVH; tests set 0 to instance all).
+  // Measured on the shared glTF models: DispersionTest's 320-triangle prism used 25 times
+  // traces 1.08x faster baked; MetalRoughSpheresNoTextures' 10.6 k-triangle sphere used 98
+  // times 1.77x faster instanced (a baked copy per use missed the cache).
+  uint64_t maxBakedCopyTriangles = 65536;
+};
+
 class SceneGeometry {
  public:
   // Builds the BVHs; returns null with `error` set if Embree fails or the scene is empty.
-  static std::unique_ptr<SceneGeometry> build(const SceneDescription& scene, std::string& error);
+  static std::unique_ptr<SceneGeometry> build(const SceneDescription& scene, std::string& error,
+                                              const GeometryBuildOptions& options = {});
   ~SceneGeometry();
   SceneGeometry(const SceneGeometry&) = delete;
   SceneGeometry& operator=(const SceneGeometry&) = delete;
@@ -50,6 +63,7 @@ class SceneGeometry {
 
   const Bounds3& bounds() const { return bounds_; }
   uint64_t triangleCount() const { return triangleCount_; }  // instanced, world
+  uint64_t storedTriangleCount() const { return storedTriangleCount_; }  // distinct: each shared set once
   // Instances are numbered as in SceneDescription::instances; skipped ones (no triangles, a
   // degenerate transform) are not in the BVH.
   bool hasInstance(int instance) const;
@@ -65,6 +79,7 @@ class SceneGeometry {
   std::unique_ptr<Impl> impl_;
   Bounds3 bounds_;
   uint64_t triangleCount_ = 0;
+  uint64_t storedTriangleCount_ = 0;
 };
 
 }  // namespace tex::render

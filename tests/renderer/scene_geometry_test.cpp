@@ -1,7 +1,8 @@
 // Hit geometry (renderer/geometry/scene_geometry.cpp): the geometric normal and the uv
 // derivatives of a hit are its triangle's, bit for bit, whether they come from the per-triangle
 // table of a baked primitive or are computed at the hit (instanced primitives), with mirrored
-// transforms flipping the normal; and closed meshes are watertight (no ray through an edge).
+// transforms flipping the normal; equal triangles under different materials are built once
+// and keep their materials; and closed meshes are watertight (no ray through an edge).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -9,6 +10,7 @@
 #include <cstring>
 #include <memory>
 
+#include "renderer/geometry/equal_primitives.h"
 #include "renderer/geometry/scene_geometry.h"
 #include "renderer/sampling/pcg.h"
 
@@ -45,7 +47,7 @@ std::unique_ptr<SceneGeometry> buildBakedAndInstanced(SceneDescription& scene, M
   scene.instances.push_back(MeshInstance{1, instanced, "instanced"});
   scene.instances.push_back(MeshInstance{1, instancedFar, "instanced elsewhere"});
   std::string error;
-  std::unique_ptr<SceneGeometry> geometry = SceneGeometry::build(scene, error);
+  std::unique_ptr<SceneGeometry> geometry = SceneGeometry::build(scene, error, GeometryBuildOptions{0});
   EXPECT_TRUE(geometry) << error;
   return geometry;
 }
@@ -152,6 +154,70 @@ TEST(SceneGeometry, ShadingNormalsAreFlatOrInterpolatedPerTriangle) {
   }
   EXPECT_GT(flatHits, 300);
   EXPECT_GT(smoothHits, 300);
+}
+
+// Meshes that differ only in material (glTF primitives over the same accessors) are one set of
+// triangles: built once, instanced per use, each hit keeping its own primitive's material. A
+// single changed bit, or a cut-out material (its alpha test belongs to its geometry), keeps a
+// primitive to itself; and small sets are baked per use unless the options say otherwise.
+TEST(SceneGeometry, EqualTrianglesUnderDifferentMaterialsAreBuiltOnce) {
+  for (const bool cutOut : {false, true})
+  for (const uint64_t maxBakedCopyTriangles : {uint64_t(0), uint64_t(39), uint64_t(40)}) {
+    SCOPED_TRACE(std::string(cutOut ? "cut-out, " : "") + "max baked copies " + std::to_string(maxBakedCopyTriangles));
+    SceneDescription scene;
+    scene.materials.resize(3);
+    scene.materials[2].alphaMode = GltfMaterial::AlphaMode::Mask;
+    scene.materials[2].alphaCutoff = 0.0f;  // nothing is cut: only the geometry's sharing differs
+    for (int material : {0, 1, 1}) {
+      MeshPrimitive m = randomSoup(21, 40);
+      m.material = material;
+      scene.primitives.push_back(m);
+    }
+    if (cutOut) scene.primitives[1].material = 2;
+    scene.primitives[2].positions[7].y = std::nextafter(scene.primitives[2].positions[7].y, 2.0f);
+    scene.primitives.push_back(randomSoup(22, 40));  // different triangles
+    const std::vector<int> first = firstEqualPrimitive(scene, {true, !cutOut, true, true});
+    EXPECT_EQ(first, (std::vector<int>{0, cutOut ? 1 : 0, 2, 3}));
+
+    for (int p = 0; p < 3; ++p) {
+      Mat4 toWorld(1.0f);
+      toWorld[3] = Vec4(0.0f, 0.0f, -4.0f + 4.0f * float(p), 1.0f);
+      scene.instances.push_back(MeshInstance{p, toWorld, "row " + std::to_string(p)});
+    }
+    std::string error;
+    const std::unique_ptr<SceneGeometry> geometry =
+        SceneGeometry::build(scene, error, GeometryBuildOptions{maxBakedCopyTriangles});
+    ASSERT_TRUE(geometry) << error;
+    EXPECT_EQ(geometry->triangleCount(), 120u);
+    // Rows 0 and 1 share 40 triangles: one extra copy of 40 when baked.
+    EXPECT_EQ(geometry->storedTriangleCount(), cutOut || maxBakedCopyTriangles >= 40 ? 120u : 80u);
+
+    int hits[3] = {0, 0, 0};
+    for (uint64_t i = 0; i < 3000; ++i) {
+      Ray ray;
+      const int row = int(i % 3);
+      ray.origin = Vec3(-10.0f, 2.0f * sampling::randomUniform(23, i, 1) - 1.0f,
+                        -4.0f + 4.0f * float(row) + 2.0f * sampling::randomUniform(23, i, 0) - 1.0f);
+      ray.direction = Vec3(1.0f, 0.0f, 0.0f);
+      ray.tMax = 20.0f;
+      SurfaceHit hit;
+      if (!geometry->intersect(ray, hit)) continue;
+      ASSERT_TRUE(hit.instance >= 0 && hit.instance < 3);
+      ++hits[hit.instance];
+      EXPECT_EQ(hit.primitive, hit.instance);
+      EXPECT_EQ(hit.material, scene.primitives[size_t(hit.instance)].material);
+      // The hit lies on its triangle of its own primitive, moved to its row.
+      const MeshPrimitive& prim = scene.primitives[size_t(hit.primitive)];
+      const Vec3 offset(0.0f, 0.0f, -4.0f + 4.0f * float(hit.instance));
+      const Vec3 a = prim.positions[prim.indices[hit.triangle * 3]] + offset;
+      const Vec3 b = prim.positions[prim.indices[hit.triangle * 3 + 1]] + offset;
+      const Vec3 c = prim.positions[prim.indices[hit.triangle * 3 + 2]] + offset;
+      const Vec3 n = glm::normalize(glm::cross(b - a, c - a));
+      EXPECT_NEAR(dot3(hit.p - a, n), 0.0f, 1e-5f);
+      EXPECT_NEAR(std::fabs(dot3(hit.ng, n)), 1.0f, 1e-5f);
+    }
+    for (int p = 0; p < 3; ++p) EXPECT_GT(hits[p], 300) << "row " << p;
+  }
 }
 
 // A UV sphere whose rings share their vertices (no duplicated seam), so it is closed exactly.
