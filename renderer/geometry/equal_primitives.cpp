@@ -21,7 +21,7 @@ uint64_t hashArray(uint64_t h, const std::vector<T>& values) {
     h = sampling::hashWords(h, word);
   }
   uint64_t tail = 0;
-  std::memcpy(&tail, bytes + i, size - i);
+  if (size > i) std::memcpy(&tail, bytes + i, size - i);  // (never a null source: empty arrays skip it)
   return sampling::hashWords(h, tail);
 }
 
