@@ -7,17 +7,23 @@
 
 namespace tex::render {
 
+// What shading's base colour has as its alpha: baseColorFactor.a x the texture's alpha x the
+// vertex colour's (COLOR_0), uv sets interpolated as SceneGeometry::fillHit does.
 float AlphaTest::alpha(uint32_t triangle, float b1, float b2) const {
   float a = material_.baseColorFactor.w;
-  if (material_.baseColorTexture.image >= 0 && !primitive_.uv0.empty()) {
-    const uint32_t* idx = &primitive_.indices[size_t(triangle) * 3];
-    const float b0 = 1.0f - b1 - b2;
-    const Vec2 uv0 = primitive_.uv0[idx[0]] * b0 + primitive_.uv0[idx[1]] * b1 + primitive_.uv0[idx[2]] * b2;
+  const uint32_t* idx = &primitive_.indices[size_t(triangle) * 3];
+  const float b0 = 1.0f - b1 - b2;
+  if (material_.baseColorTexture.image >= 0) {
+    Vec2 uv0(0.0f);
+    if (!primitive_.uv0.empty())
+      uv0 = primitive_.uv0[idx[0]] * b0 + primitive_.uv0[idx[1]] * b1 + primitive_.uv0[idx[2]] * b2;
     Vec2 uv1 = uv0;
     if (!primitive_.uv1.empty())
       uv1 = primitive_.uv1[idx[0]] * b0 + primitive_.uv1[idx[1]] * b1 + primitive_.uv1[idx[2]] * b2;
     a *= lookupTexture(scene_, material_.baseColorTexture, uv0, uv1, false).w;
   }
+  if (!primitive_.colors.empty())
+    a *= primitive_.colors[idx[0]].w * b0 + primitive_.colors[idx[1]].w * b1 + primitive_.colors[idx[2]].w * b2;
   return a;
 }
 

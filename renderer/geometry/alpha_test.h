@@ -3,7 +3,7 @@
 // transparent parts. MASK: opaque where alpha >= alphaCutoff. BLEND: opaque with probability
 // alpha (stochastic transparency), decided by a hash of the ray and the hit, so the same ray
 // always makes the same choice (results stay a function of the sample index).
-// alpha = baseColorFactor.a x the base colour texture's alpha at the hit's uv.
+// alpha = baseColorFactor.a x the base colour texture's alpha at the hit's uv x the vertex colour's.
 #pragma once
 #include <embree3/rtcore.h>
 

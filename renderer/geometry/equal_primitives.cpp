@@ -31,6 +31,7 @@ uint64_t hashPrimitive(const MeshPrimitive& p) {
   h = hashArray(h, p.uv0);
   h = hashArray(h, p.uv1);
   h = hashArray(h, p.tangents);
+  h = hashArray(h, p.colors);
   return hashArray(h, p.indices);
 }
 
@@ -42,7 +43,8 @@ bool sameBits(const std::vector<T>& a, const std::vector<T>& b) {
 
 bool sameTriangles(const MeshPrimitive& a, const MeshPrimitive& b) {
   return sameBits(a.indices, b.indices) && sameBits(a.positions, b.positions) && sameBits(a.normals, b.normals) &&
-         sameBits(a.uv0, b.uv0) && sameBits(a.uv1, b.uv1) && sameBits(a.tangents, b.tangents);
+         sameBits(a.uv0, b.uv0) && sameBits(a.uv1, b.uv1) && sameBits(a.tangents, b.tangents) &&
+         sameBits(a.colors, b.colors);
 }
 
 }  // namespace

@@ -10,7 +10,7 @@
 namespace tex::render {
 
 // For each primitive, the first primitive with equal vertex attributes (positions, normals,
-// both uv sets, tangents) and indices; itself when there is none. `eligible[p]` false keeps
+// both uv sets, tangents, colours) and indices; itself when there is none. `eligible[p]` false keeps
 // p to itself (a cut-out material's alpha test belongs to its own geometry).
 std::vector<int> firstEqualPrimitive(const SceneDescription& scene, const std::vector<bool>& eligible);
 

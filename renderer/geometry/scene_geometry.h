@@ -30,6 +30,8 @@ struct SurfaceHit {
   Vec3 ng{0.0f};       // unit geometric normal: the triangle's front side (counter-clockwise winding)
   Vec3 ns{0.0f};       // unit shading normal (interpolated vertex normals, or ng)
   Vec2 uv{0.0f};       // TEXCOORD_0 (0 when absent)
+  Vec2 uv1{0.0f};      // TEXCOORD_1 (TEXCOORD_0's when absent)
+  Vec4 color{1.0f};    // COLOR_0 (RGBA; 1 when absent)
   Vec3 dpdu{0.0f}, dpdv{0.0f};  // position derivatives w.r.t. uv (0 when uv is degenerate)
   Vec4 tangent{0.0f};  // glTF TANGENT interpolated (xyz world, w handedness); 0 when absent
   int instance = -1;   // SceneDescription::instances index
@@ -67,8 +69,9 @@ class SceneGeometry {
   // Instances are numbered as in SceneDescription::instances; skipped ones (no triangles, a
   // degenerate transform) are not in the BVH.
   bool hasInstance(int instance) const;
-  // World-space vertices of one triangle of an instance (for area lights).
-  void triangleWorld(int instance, uint32_t triangle, Vec3 p[3], Vec2 uv[3], Vec3& ng) const;
+  // World-space vertices of one triangle of an instance (for area lights), with the uv of
+  // texture coordinate set `uvSet` (0 or 1; set 1 falls back to set 0 where the mesh has none).
+  void triangleWorld(int instance, uint32_t triangle, Vec3 p[3], Vec2 uv[3], Vec3& ng, int uvSet = 0) const;
 
   struct Impl;
 

@@ -17,7 +17,9 @@ struct RenderScene::Emission final : EmissionSource {
     ShadingPoint sp;
     sp.p = point.p;
     sp.ng = sp.ns = point.n;
-    sp.uv = point.uv;
+    // The light carries the uv set its emission reads (RenderScene::build): glTF's emissive
+    // texture may use TEXCOORD_1.
+    sp.uv = sp.uv1 = point.uv;
     return materials->emission(material, sp, lambda);
   }
   float averageRadiance() const override { return materials->averageEmission(material); }
@@ -31,6 +33,8 @@ ShadingPoint RenderScene::shadingPoint(const SurfaceHit& hit) {
   sp.ng = hit.ng;
   sp.ns = hit.ns;
   sp.uv = hit.uv;
+  sp.uv1 = hit.uv1;
+  sp.color = hit.color;
   sp.dpdu = hit.dpdu;
   sp.dpdv = hit.dpdv;
   sp.tangent = hit.tangent;
@@ -115,12 +119,13 @@ std::unique_ptr<RenderScene> RenderScene::build(const SceneDescription& scene, c
     rs->areaLightBase_[size_t(i)] = int64_t(rs->lights_.size());
     const EmissionSource* source = emissionFor(material);
     const uint32_t triangles = uint32_t(prim->indices.size() / 3);
+    const int uvSet = rs->materials_->emissionUvSet(material);
     for (uint32_t t = 0; t < triangles; ++t) {
       TriangleLightDesc d;
       Vec3 p[3];
       Vec2 uv[3];
       Vec3 ng;
-      rs->geometry_->triangleWorld(i, t, p, uv, ng);
+      rs->geometry_->triangleWorld(i, t, p, uv, ng, uvSet);
       d.p0 = p[0];
       d.p1 = p[1];
       d.p2 = p[2];

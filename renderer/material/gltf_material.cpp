@@ -10,16 +10,17 @@ namespace tex::render {
 
 namespace {
 
+// baseColorFactor x the sRGB-decoded texture x the vertex colour (glTF 2.0 3.9.2).
 Vec3 baseColorAt(const SceneDescription& scene, const GltfMaterial& m, const ShadingPoint& point) {
-  const Vec4 t = lookupTexture(scene, m.baseColorTexture, point.uv, point.uv, true);
-  return Vec3(m.baseColorFactor) * Vec3(t);
+  const Vec4 t = lookupTexture(scene, m.baseColorTexture, point.uv, point.uv1, true);
+  return Vec3(m.baseColorFactor) * Vec3(t) * Vec3(point.color);
 }
 
 
 // emissiveFactor x strength x the sRGB-decoded emissive texture (no lookup when black).
 Vec3 emissionRgb(const SceneDescription& scene, const GltfMaterial& m, const ShadingPoint& point) {
   const Vec3 e = m.emissiveFactor * m.emissiveStrength;
-  return e == Vec3(0.0f) ? e : e * Vec3(lookupTexture(scene, m.emissiveTexture, point.uv, point.uv, true));
+  return e == Vec3(0.0f) ? e : e * Vec3(lookupTexture(scene, m.emissiveTexture, point.uv, point.uv1, true));
 }
 
 Vec3 normalMappedNormal(const SceneDescription& scene, const GltfMaterial& m, const ShadingPoint& point, Vec3& tangentOut) {
@@ -40,7 +41,7 @@ Vec3 normalMappedNormal(const SceneDescription& scene, const GltfMaterial& m, co
   if (!(tl > 1e-8f)) return n;
   t /= tl;
   const Vec3 b = glm::cross(n, t) * w;
-  const Vec4 texel = lookupTexture(scene, m.normalTexture, point.uv, point.uv, false, Vec4(0.5f, 0.5f, 1.0f, 1.0f));
+  const Vec4 texel = lookupTexture(scene, m.normalTexture, point.uv, point.uv1, false, Vec4(0.5f, 0.5f, 1.0f, 1.0f));
   const Vec3 local = Vec3((texel.x * 2.0f - 1.0f) * m.normalScale, (texel.y * 2.0f - 1.0f) * m.normalScale, texel.z * 2.0f - 1.0f);
   Vec3 mapped = t * local.x + b * local.y + n * local.z;
   const float ml = glm::length(mapped);
@@ -75,11 +76,11 @@ void applyGltfNormalMap(const SceneDescription& scene, const GltfMaterial& m, co
 GltfInputs gltfInputs(const SceneDescription& scene, const GltfMaterial& m, const ShadingPoint& point) {
   GltfInputs in;
   in.baseColor = glm::clamp(baseColorAt(scene, m, point), Vec3(0.0f), Vec3(1.0f));
-  const Vec4 mr = lookupTexture(scene, m.metallicRoughnessTexture, point.uv, point.uv, false);
+  const Vec4 mr = lookupTexture(scene, m.metallicRoughnessTexture, point.uv, point.uv1, false);
   in.metallic = std::clamp(m.metallicFactor * mr.z, 0.0f, 1.0f);
   in.roughness = std::clamp(m.roughnessFactor * mr.y, 0.0f, 1.0f);
   in.transmission =
-      std::clamp(m.transmissionFactor * lookupTexture(scene, m.transmissionTexture, point.uv, point.uv, false).x, 0.0f, 1.0f);
+      std::clamp(m.transmissionFactor * lookupTexture(scene, m.transmissionTexture, point.uv, point.uv1, false).x, 0.0f, 1.0f);
   in.ior = m.ior;
   in.dispersion = m.dispersion;
   in.emission = emissionRgb(scene, m, point);

@@ -10,14 +10,15 @@ namespace tex::render {
 
 // The arguments of std.gltf.metallic_roughness at a point (in its parameter order).
 struct GltfInputs {
-  Vec3 baseColor{1.0f};  // baseColorFactor x sRGB-decoded texture, clamped to [0, 1]
+  Vec3 baseColor{1.0f};  // baseColorFactor x sRGB-decoded texture x COLOR_0, clamped to [0, 1]
   float metallic = 0, roughness = 1, transmission = 0, ior = 1.5f, dispersion = 0;
   Vec3 emission{0.0f};   // emissiveFactor x strength x sRGB-decoded texture
 };
 GltfInputs gltfInputs(const SceneDescription& scene, const GltfMaterial& material, const ShadingPoint& point);
 
 // Whether shading reads the point: some texture gltfInputs or the normal map looks up has an
-// image. Without one the inputs, and so the closure tree, are the same at every hit.
+// image. Without one the inputs, and so the closure tree, are the same at every hit of a mesh
+// without vertex colours (MaterialSystem checks the meshes).
 bool gltfReadsHit(const SceneDescription& scene, const GltfMaterial& material);
 
 // Replaces the Bsdf's shading frame by the normal map's (no-op without a normal texture).

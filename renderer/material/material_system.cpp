@@ -130,6 +130,11 @@ std::unique_ptr<MaterialSystem> MaterialSystem::create(const SceneDescription& s
   for (size_t m = 0; m < scene.materials.size(); ++m)
     im.gltfHitIndependent[m] =
         im.bindingOfMaterial[m] < 0 && im.gltfMaterial.hitIndependent && !gltfReadsHit(scene, scene.materials[m]);
+  // Vertex colours (COLOR_0) vary the base colour over a mesh whatever the material reads.
+  for (size_t p = 0; p < scene.primitives.size(); ++p) {
+    const int s = im.slotOfPrimitive[p];
+    if (!scene.primitives[p].colors.empty() && s >= 0 && size_t(s) < slots) im.gltfHitIndependent[size_t(s)] = 0;
+  }
   im.emissive.assign(slots, 0);
   im.averageEmission.assign(slots, 0.0f);
   // Probe each material on a 4 x 4 grid of uv (and positions) with a fixed wavelength group to
@@ -142,7 +147,7 @@ std::unique_ptr<MaterialSystem> MaterialSystem::create(const SceneDescription& s
     for (int gy = 0; gy < 4; ++gy)
       for (int gx = 0; gx < 4; ++gx, ++probes) {
         ShadingPoint point;
-        point.uv = Vec2((float(gx) + 0.5f) / 4.0f, (float(gy) + 0.5f) / 4.0f);
+        point.uv = point.uv1 = Vec2((float(gx) + 0.5f) / 4.0f, (float(gy) + 0.5f) / 4.0f);
         point.p = Vec3(point.uv.x, point.uv.y, 0.0f);
         point.ng = point.ns = Vec3(0, 0, 1);
         Bsdf bsdf(Frame::fromNormal(point.ns), point.ng);
@@ -219,6 +224,15 @@ Spectrum MaterialSystem::emission(int material, const ShadingPoint& point, const
 }
 
 bool MaterialSystem::isEmissive(int material) const { return impl_->emissive[size_t(impl_->slot(material))] != 0; }
+
+int MaterialSystem::emissionUvSet(int material) const {
+  const Impl& im = *impl_;
+  const int s = im.slot(material);
+  const GltfMaterial* m = im.gltf(s);
+  return m && im.bindingOfMaterial[size_t(s)] < 0 && m->emissiveTexture.image >= 0 && m->emissiveTexture.texCoord == 1
+             ? 1
+             : 0;
+}
 
 bool MaterialSystem::emitsBothSides(int material) const {
   const Impl& im = *impl_;

@@ -25,6 +25,8 @@ struct MaterialOptions {
 struct ShadingPoint {
   Vec3 p, ng, ns;  // position, geometric and shading normals (world, unit)
   Vec2 uv{0.0f};
+  Vec2 uv1{0.0f};      // glTF's second texture coordinate set (the first's when the mesh has none)
+  Vec4 color{1.0f};    // glTF vertex colour COLOR_0 (RGBA; 1 when the mesh has none)
   Vec3 dpdu{0.0f}, dpdv{0.0f};
   Vec4 tangent{0.0f};  // glTF tangent (w: handedness), 0 when the mesh has none
   // The footprint of one pixel at this point (ray differentials; 0 when unknown): position
@@ -62,6 +64,9 @@ class MaterialSystem {
   // filter their textures with it).
   bool readsPixelFootprint(int material) const;
   bool emitsBothSides(int material) const;
+  // The texture coordinate set area lights of `material` give its emission as ShadingPoint::uv
+  // (and uv1): 1 for a glTF material whose emissive texture reads TEXCOORD_1, else 0.
+  int emissionUvSet(int material) const;
   // Beer-Lambert absorption inside a closed object of this material (KHR_materials_volume:
   // transmittance attenuationColor^(d / attenuationDistance)): the absorption coefficient per
   // wavelength, per metre of path. False for materials without a volume.

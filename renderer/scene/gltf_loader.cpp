@@ -78,6 +78,21 @@ class Importer {
     return true;
   }
 
+  // COLOR_0: RGB or RGBA, float or normalized unsigned byte / short (glTF 2.0 3.7.2.1).
+  bool readColors(int accessor, std::vector<Vec4>& out, const std::string& what) {
+    const bool rgb = accessor >= 0 && size_t(accessor) < model_.accessors.size() &&
+                     model_.accessors[size_t(accessor)].type == TINYGLTF_TYPE_VEC3;
+    std::vector<float> f;
+    std::string err = readFloatAccessor(model_, accessor, rgb ? TINYGLTF_TYPE_VEC3 : TINYGLTF_TYPE_VEC4,
+                                        kFloatComponents | kNormalizedUint8 | kNormalizedUint16, f);
+    if (!err.empty()) return fail(what + ": " + err), false;
+    const size_t n = rgb ? 3 : 4;
+    out.resize(f.size() / n);
+    for (size_t i = 0; i < out.size(); ++i)
+      out[i] = Vec4(f[n * i], f[n * i + 1], f[n * i + 2], rgb ? 1.0f : f[n * i + 3]);
+    return true;
+  }
+
   // Converts strips and fans to triangle lists (glTF 2.0 section 3.7.2.1 gives the orders).
   static std::vector<uint32_t> toTriangleList(const std::vector<uint32_t>& in, int mode) {
     std::vector<uint32_t> out;
@@ -130,6 +145,8 @@ class Importer {
       if (!readVec2s(a, out.uv1, where + " TEXCOORD_1") || !sameCount(out.uv1.size(), "TEXCOORD_1")) return false;
     if (int a = attribute("TANGENT"); a >= 0)
       if (!readVec4s(a, out.tangents, where + " TANGENT") || !sameCount(out.tangents.size(), "TANGENT")) return false;
+    if (int a = attribute("COLOR_0"); a >= 0)
+      if (!readColors(a, out.colors, where + " COLOR_0") || !sameCount(out.colors.size(), "COLOR_0")) return false;
 
     std::vector<uint32_t> indices;
     if (prim.indices >= 0) {

@@ -108,6 +108,7 @@ struct MeshPrimitive {
   std::vector<Vec3> normals;  // empty: the renderer uses face normals
   std::vector<Vec2> uv0, uv1; // empty when absent
   std::vector<Vec4> tangents;
+  std::vector<Vec4> colors;   // COLOR_0, RGBA (alpha 1 for RGB sources); empty when absent
   std::vector<uint32_t> indices;  // triangles (3 per face), validated against positions.size()
   int material = -1;              // index into SceneDescription::materials; -1: default material
 };

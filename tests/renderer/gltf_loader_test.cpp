@@ -498,6 +498,38 @@ TEST_F(GltfMutated, NormalizedByteTexcoords) {
   expectError(doc, "componentType 5121");
 }
 
+// COLOR_0: RGB floats read with alpha 1, RGBA normalized bytes as value / 255; a count that
+// disagrees with POSITION or a scalar type is an error naming the attribute.
+TEST_F(GltfMutated, VertexColoursRgbFloatsAndRgbaBytes) {
+  json doc = base_;
+  doc["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"] = 1;  // the normals' floats, as RGB
+  std::vector<std::string> errors;
+  auto scene = loadGltf(write("rgb.gltf", doc.dump()), errors);
+  ASSERT_TRUE(scene) << errors[0];
+  const MeshPrimitive& rgb = scene->primitives[0];
+  ASSERT_EQ(rgb.colors.size(), rgb.normals.size());
+  for (size_t i = 0; i < rgb.colors.size(); ++i) EXPECT_EQ(rgb.colors[i], Vec4(rgb.normals[i], 1.0f));
+
+  // The texture coordinates' first 16 bytes as normalized unsigned byte RGBA.
+  doc["accessors"].push_back({{"bufferView", 2}, {"componentType", 5121}, {"normalized", true}, {"count", 4}, {"type", "VEC4"}});
+  doc["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"] = 4;
+  scene = loadGltf(write("rgba.gltf", doc.dump()), errors);
+  ASSERT_TRUE(scene) << errors[0];
+  const MeshPrimitive& rgba = scene->primitives[0];
+  ASSERT_EQ(rgba.colors.size(), 4u);
+  unsigned char bytes[16];
+  std::memcpy(bytes, rgba.uv0.data(), 16);
+  for (size_t i = 0; i < 4; ++i)
+    EXPECT_EQ(rgba.colors[i], Vec4(bytes[4 * i] / 255.0f, bytes[4 * i + 1] / 255.0f, bytes[4 * i + 2] / 255.0f,
+                                   bytes[4 * i + 3] / 255.0f));
+
+  doc["accessors"][4]["count"] = 3;
+  expectError(doc, "COLOR_0 has 3 elements");
+  doc["accessors"][4]["count"] = 4;
+  doc["accessors"][4]["type"] = "SCALAR";
+  expectError(doc, "COLOR_0");
+}
+
 TEST_F(GltfMutated, NonIndexedAndStripPrimitives) {
   json doc = base_;
   doc["meshes"][0]["primitives"][0].erase("indices");

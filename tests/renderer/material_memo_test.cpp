@@ -249,5 +249,69 @@ TEST(MaterialMemo, GltfMaterialsWithoutTexturesReplayAndTexturedOnesDoNot) {
   EXPECT_EQ(texturedDifferences, 3);  // so a stale replay of the textured material would be caught
 }
 
+// glTF 2.0's COLOR_0 multiplies the base colour (and a texture with texCoord 1 reads the second
+// uv set), so a material without textures on a mesh with vertex colours differs from hit to hit:
+// it must not replay from the memo. Its evaluations through the system equal fresh ones at
+// points of different colours, and those differ from each other.
+TEST(MaterialMemo, GltfVertexColoursAndSecondUvSetReachShading) {
+  SceneDescription scene;
+  ImageData image;
+  image.width = 2;
+  image.height = 1;
+  image.channels = 3;
+  image.bytes = {230, 40, 20, 20, 60, 220};  // red, then blue
+  scene.images.push_back(image);
+  GltfMaterial plastic;
+  plastic.baseColorFactor = Vec4(0.8f, 0.6f, 0.4f, 1.0f);
+  plastic.metallicFactor = 0.0f;
+  plastic.roughnessFactor = 0.5f;
+  GltfMaterial secondSet = plastic;
+  secondSet.baseColorTexture.image = 0;
+  secondSet.baseColorTexture.texCoord = 1;
+  secondSet.baseColorTexture.wrapS = secondSet.baseColorTexture.wrapT = WrapMode::ClampToEdge;
+  scene.materials = {plastic, secondSet};
+  MeshPrimitive coloured;
+  coloured.positions = {Vec3(0.0f), Vec3(1.0f, 0.0f, 0.0f), Vec3(0.0f, 1.0f, 0.0f)};
+  coloured.indices = {0, 1, 2};
+  coloured.colors = {Vec4(1.0f), Vec4(0.2f, 0.5f, 1.0f, 1.0f), Vec4(1.0f)};
+  coloured.material = 0;
+  scene.primitives.push_back(coloured);
+
+  ShadingPoint white = pointAt(0.25f, 0.5f, 0.1f), tinted = pointAt(0.25f, 0.5f, 0.9f);
+  tinted.color = Vec4(0.2f, 0.5f, 1.0f, 1.0f);
+  const GltfInputs plain = gltfInputs(scene, plastic, white), tint = gltfInputs(scene, plastic, tinted);
+  EXPECT_EQ(plain.baseColor, Vec3(0.8f, 0.6f, 0.4f));
+  EXPECT_EQ(tint.baseColor, Vec3(0.8f, 0.6f, 0.4f) * Vec3(0.2f, 0.5f, 1.0f));
+  // texCoord 1: the texel at uv1, whatever uv (TEXCOORD_0) says.
+  ShadingPoint left = white, right = white;
+  left.uv1 = Vec2(0.25f, 0.5f);
+  right.uv1 = Vec2(0.75f, 0.5f);
+  right.uv = left.uv;
+  EXPECT_GT(gltfInputs(scene, secondSet, left).baseColor.x, gltfInputs(scene, secondSet, left).baseColor.z);
+  EXPECT_LT(gltfInputs(scene, secondSet, right).baseColor.x, gltfInputs(scene, secondSet, right).baseColor.z);
+
+  std::string error;
+  const std::unique_ptr<MaterialSystem> materials = MaterialSystem::create(scene, MaterialOptions{}, error);
+  ASSERT_TRUE(materials) << error;
+  CompiledGltf direct;
+  ASSERT_TRUE(compileGltfMaterial(4, false, false, direct, error)) << error;
+  const Wavelengths lambda = color::sampleWavelengthGroup(0.4f, 4);
+  Bsdf previous;
+  for (int round = 0; round < 4; ++round) {
+    const ShadingPoint& p = round % 2 ? tinted : white;
+    Bsdf viaSystem(Frame(), Vec3(0, 0, 1)), fresh(Frame(), Vec3(0, 0, 1));
+    Spectrum eSystem, eFresh;
+    ASSERT_TRUE(materials->shade(materials->materialOfPrimitive(0), p, lambda, viaSystem, eSystem));
+    const GltfInputs in = gltfInputs(scene, plastic, p);
+    const float args[kGltfArgumentWords] = {in.baseColor.x, in.baseColor.y, in.baseColor.z, in.metallic, in.roughness,
+                                            in.transmission, in.ior, in.dispersion, in.emission.x, in.emission.y,
+                                            in.emission.z};
+    ASSERT_TRUE(evaluateEntry(direct.entry, args, kGltfArgumentWords, p, lambda, &fresh, eFresh).ok);
+    EXPECT_TRUE(sameLobeParameters(viaSystem, fresh)) << "round " << round;
+    if (round > 0) EXPECT_FALSE(sameLobeParameters(previous, fresh)) << "round " << round;
+    previous.copyLobesFrom(fresh);
+  }
+}
+
 }  // namespace
 }  // namespace tex::render

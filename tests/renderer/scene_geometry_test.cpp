@@ -220,6 +220,61 @@ TEST(SceneGeometry, EqualTrianglesUnderDifferentMaterialsAreBuiltOnce) {
   }
 }
 
+// A hit's second uv set and vertex colour (glTF TEXCOORD_1, COLOR_0) are its triangle's
+// vertices' at the hit's barycentrics, baked or instanced; without them the hit has the first
+// uv set and white. triangleWorld gives either uv set (area lights whose emission reads set 1).
+TEST(SceneGeometry, SecondUvSetAndVertexColoursAreInterpolatedAtTheHit) {
+  SceneDescription scene;
+  for (uint64_t seed : {31u, 32u}) {
+    MeshPrimitive m = randomSoup(seed, 40);
+    if (seed == 31)
+      for (size_t v = 0; v < m.positions.size(); ++v) {
+        m.uv1.push_back(Vec2(sampling::randomUniform(seed, v, 8), sampling::randomUniform(seed, v, 9)));
+        m.colors.push_back(Vec4(sampling::randomUniform(seed, v, 10), sampling::randomUniform(seed, v, 11),
+                                sampling::randomUniform(seed, v, 12), sampling::randomUniform(seed, v, 13)));
+      }
+    scene.primitives.push_back(m);
+  }
+  const auto geometry = buildBakedAndInstanced(scene, Mat4(1.0f), Mat4(1.0f));
+  ASSERT_TRUE(geometry);
+  int hits[2] = {0, 0};
+  for (uint64_t i = 0; i < 2000; ++i) {
+    Ray ray;
+    const float z = (i % 2 ? 4.0f : -4.0f) + 2.0f * sampling::randomUniform(33, i, 0) - 1.0f;
+    ray.origin = Vec3(-10.0f, 2.0f * sampling::randomUniform(33, i, 1) - 1.0f, z);
+    ray.direction = Vec3(1.0f, 0.0f, 0.0f);
+    ray.tMax = 15.0f;
+    SurfaceHit hit;
+    if (!geometry->intersect(ray, hit)) continue;
+    ++hits[hit.instance];
+    const MeshPrimitive& prim = scene.primitives[size_t(hit.primitive)];
+    const uint32_t* vi = &prim.indices[size_t(hit.triangle) * 3];
+    Vec3 p[3];
+    Vec2 uv[3], uvSet1[3];
+    Vec3 ng;
+    geometry->triangleWorld(hit.instance, hit.triangle, p, uv, ng);
+    geometry->triangleWorld(hit.instance, hit.triangle, p, uvSet1, ng, 1);
+    const Vec3 e1 = p[1] - p[0], e2 = p[2] - p[0], d = hit.p - p[0];
+    const float a00 = dot3(e1, e1), a01 = dot3(e1, e2), a11 = dot3(e2, e2);
+    const float det = a00 * a11 - a01 * a01;
+    const float b1 = (a11 * dot3(e1, d) - a01 * dot3(e2, d)) / det, b2 = (a00 * dot3(e2, d) - a01 * dot3(e1, d)) / det;
+    const float b0 = 1.0f - b1 - b2;
+    if (prim.colors.empty()) {
+      EXPECT_EQ(hit.color, Vec4(1.0f));
+      EXPECT_EQ(hit.uv1, hit.uv);
+      for (int k = 0; k < 3; ++k) EXPECT_EQ(uvSet1[k], uv[k]);
+    } else {
+      const Vec4 c = prim.colors[vi[0]] * b0 + prim.colors[vi[1]] * b1 + prim.colors[vi[2]] * b2;
+      const Vec2 t = prim.uv1[vi[0]] * b0 + prim.uv1[vi[1]] * b1 + prim.uv1[vi[2]] * b2;
+      EXPECT_LT(glm::length(hit.color - c), 2e-3f) << "triangle " << hit.triangle;
+      EXPECT_LT(glm::length(hit.uv1 - t), 2e-3f) << "triangle " << hit.triangle;
+      for (int k = 0; k < 3; ++k) EXPECT_EQ(uvSet1[k], prim.uv1[vi[k]]);
+    }
+  }
+  EXPECT_GT(hits[0], 300);
+  EXPECT_GT(hits[1], 300);
+}
+
 // A UV sphere whose rings share their vertices (no duplicated seam), so it is closed exactly.
 MeshPrimitive closedSphere(int segments, int rings) {
   MeshPrimitive m;
