@@ -5,6 +5,7 @@
 #include <cmath>
 #include <fstream>
 #include <iterator>
+#include <optional>
 #include <set>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -14,6 +15,7 @@
 #include "renderer/scene/gltf_accessor.h"
 #include "renderer/scene/gltf_images.h"
 #include "renderer/scene/gltf_import.h"
+#include "renderer/scene/gltf_pose.h"
 
 namespace tex::render {
 
@@ -35,8 +37,13 @@ std::string directoryOf(const std::string& path) {
 
 struct MeshImport {
   std::vector<int> primitives;  // scene primitive indices (skipped glTF primitives left out)
+  std::vector<size_t> gltfPrimitives;  // the glTF primitive each came from
   bool done = false;
 };
+
+// A mesh as nodes use it: its index and the morph target weights it is posed with (empty when
+// all are zero, so unposed uses share one import).
+using MeshKey = std::pair<int, std::vector<double>>;
 
 class Importer {
  public:
@@ -109,7 +116,8 @@ class Importer {
 
   // One glTF primitive -> MeshPrimitive; false with an error when broken, true with
   // `skipped` when it is valid but not triangles.
-  bool convertPrimitive(const tinygltf::Mesh& mesh, int meshIndex, size_t primIndex, MeshPrimitive& out,
+  bool convertPrimitive(const tinygltf::Mesh& mesh, int meshIndex, size_t primIndex, const std::vector<double>& weights,
+                        MeshPrimitive& out,
                         bool& skipped) {
     const tinygltf::Primitive& prim = mesh.primitives[primIndex];
     const std::string where = "mesh " + std::to_string(meshIndex) + (mesh.name.empty() ? "" : " \"" + mesh.name + "\"") +
@@ -147,6 +155,13 @@ class Importer {
       if (!readVec4s(a, out.tangents, where + " TANGENT") || !sameCount(out.tangents.size(), "TANGENT")) return false;
     if (int a = attribute("COLOR_0"); a >= 0)
       if (!readColors(a, out.colors, where + " COLOR_0") || !sameCount(out.colors.size(), "COLOR_0")) return false;
+    if (!weights.empty()) {
+      std::vector<std::string> ignored;
+      const std::string err = applyMorphTargets(model_, prim, weights, out, ignored);
+      if (!err.empty()) return fail(where + " " + err), false;
+      for (const std::string& name : ignored)
+        in_.warnOnce("morph/" + name, where + ": morph target attribute " + name + " is not applied (only POSITION, NORMAL and TANGENT are)");
+    }
 
     std::vector<uint32_t> indices;
     if (prim.indices >= 0) {
@@ -174,19 +189,73 @@ class Importer {
     return true;
   }
 
-  bool importMesh(int meshIndex, const std::vector<int>*& primitives) {
-    MeshImport& mi = meshes_[meshIndex];
-    primitives = &mi.primitives;
+  bool importMesh(int meshIndex, const std::vector<double>& weights, const MeshImport*& import) {
+    MeshImport& mi = meshes_[MeshKey(meshIndex, weights)];
+    import = &mi;
     if (mi.done) return true;
     mi.done = true;
     const tinygltf::Mesh& mesh = model_.meshes[size_t(meshIndex)];
     for (size_t p = 0; p < mesh.primitives.size(); ++p) {
       MeshPrimitive prim;
       bool skipped = false;
-      if (!convertPrimitive(mesh, meshIndex, p, prim, skipped)) return false;
+      if (!convertPrimitive(mesh, meshIndex, p, weights, prim, skipped)) return false;
       if (skipped) continue;
       mi.primitives.push_back(int(in_.scene.primitives.size()));
+      mi.gltfPrimitives.push_back(p);
       in_.scene.primitives.push_back(std::move(prim));
+    }
+    return true;
+  }
+
+  // The morph target weights a node poses its mesh with: node.weights, else mesh.weights;
+  // empty when every weight is zero (the mesh as stored).
+  static std::vector<double> morphWeights(const tinygltf::Node& node, const tinygltf::Mesh& mesh) {
+    std::vector<double> w = node.weights.empty() ? mesh.weights : node.weights;
+    bool any = false;
+    for (double& x : w) {
+      if (!std::isfinite(x)) x = 0.0;
+      any = any || x != 0.0;
+    }
+    return any ? w : std::vector<double>();
+  }
+
+  // Skinned meshes, once every node's world transform is known: each primitive is skinned
+  // into world space (its own copy, instanced with the identity); the node's own transform
+  // only places vertices without influences. A skin whose joints are not all in the scene is
+  // rendered unskinned, with a warning.
+  bool placeSkinnedMeshes() {
+    for (const PendingSkin& pending : pendingSkins_) {
+      const tinygltf::Node& node = model_.nodes[size_t(pending.node)];
+      const std::string where = "node " + std::to_string(pending.node) + (node.name.empty() ? "" : " \"" + node.name + "\"");
+      const tinygltf::Skin& skin = model_.skins[size_t(node.skin)];
+      std::string err;  // set: render unskinned
+      for (size_t j = 0; j < skin.joints.size() && err.empty(); ++j)
+        if (skin.joints[j] < 0 || size_t(skin.joints[j]) >= worldOfNode_.size() || !worldOfNode_[size_t(skin.joints[j])])
+          err = "joint " + std::to_string(j) + " is node " + std::to_string(skin.joints[j]) + ", which is not in the rendered scene";
+      std::vector<Mat4> joints;
+      if (err.empty()) {
+        const std::string jointErr = jointMatrices(model_, skin, worldOfNode_, joints);
+        if (!jointErr.empty()) return fail(where + " skin " + std::to_string(node.skin) + " " + jointErr), false;
+      }
+      for (size_t k = 0; k < pending.mesh->primitives.size(); ++k) {
+        const int p = pending.mesh->primitives[k];
+        if (err.empty()) {
+          MeshPrimitive skinned = in_.scene.primitives[size_t(p)];
+          const tinygltf::Primitive& gltfPrim = model_.meshes[size_t(node.mesh)].primitives[pending.mesh->gltfPrimitives[k]];
+          const std::string skinErr = skinToWorld(model_, gltfPrim, joints, pending.world, skinned);
+          if (skinErr.empty()) {
+            in_.scene.instances.push_back(MeshInstance{int(in_.scene.primitives.size()), Mat4(1.0f), node.name});
+            in_.scene.primitives.push_back(std::move(skinned));
+            continue;
+          }
+          if (skinErr.find("without JOINTS_0") == std::string::npos)
+            return fail(where + " skin " + std::to_string(node.skin) + ": " + skinErr), false;
+          in_.warn(where + " has a skin but its mesh's primitive " + std::to_string(k) + " has no joint influences; placed by the node");
+        }
+        in_.scene.instances.push_back(MeshInstance{p, pending.world, node.name});
+      }
+      if (!err.empty())
+        in_.warn(where + " skin " + std::to_string(node.skin) + " " + err + "; the mesh is placed by its node, unskinned");
     }
     return true;
   }
@@ -321,12 +390,19 @@ class Importer {
     Mat4 local;
     if (!localTransform(node, where, local)) return false;
     const Mat4 world = parent * local;
+    worldOfNode_[size_t(nodeIndex)] = world;
     if (node.mesh >= 0) {
       if (size_t(node.mesh) >= model_.meshes.size())
         return fail(where + " uses mesh " + std::to_string(node.mesh) + ", which does not exist"), false;
-      const std::vector<int>* primitives = nullptr;
-      if (!importMesh(node.mesh, primitives)) return false;
-      for (int p : *primitives) in_.scene.instances.push_back(MeshInstance{p, world, node.name});
+      const MeshImport* mesh = nullptr;
+      if (!importMesh(node.mesh, morphWeights(node, model_.meshes[size_t(node.mesh)]), mesh)) return false;
+      if (node.skin >= 0) {
+        if (size_t(node.skin) >= model_.skins.size())
+          return fail(where + " uses skin " + std::to_string(node.skin) + ", which does not exist"), false;
+        pendingSkins_.push_back(PendingSkin{nodeIndex, world, mesh});
+      } else {
+        for (int p : mesh->primitives) in_.scene.instances.push_back(MeshInstance{p, world, node.name});
+      }
     }
     if (node.camera >= 0) addCamera(node, nodeIndex, world);
     addLight(node, nodeIndex, world);
@@ -354,9 +430,10 @@ class Importer {
         if (!isChild[i]) roots.push_back(int(i));
       in_.warn("the file has no scenes; rendering every root node");
     }
+    worldOfNode_.assign(model_.nodes.size(), std::nullopt);
     for (int root : roots)
       if (!visitNode(root, transform_, 0)) return false;
-    return true;
+    return placeSkinnedMeshes();
   }
 
   GltfImport& in_;
@@ -364,8 +441,16 @@ class Importer {
   Mat4 transform_;
   std::vector<std::string>& errors_;
   size_t errorCountAtStart_ = errors_.size();
-  std::map<int, MeshImport> meshes_;
+  std::map<MeshKey, MeshImport> meshes_;
   std::set<int> visited_;
+  // World transforms of the scene's nodes (none: not in the scene), for skins' joints.
+  std::vector<std::optional<Mat4>> worldOfNode_;
+  struct PendingSkin {
+    int node;
+    Mat4 world;
+    const MeshImport* mesh;
+  };
+  std::vector<PendingSkin> pendingSkins_;
 };
 
 // tinygltf messages are several lines; keep each as its own message.

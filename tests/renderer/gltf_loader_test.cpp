@@ -8,6 +8,8 @@
 #include <fstream>
 #include <map>
 
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
 #include <nlohmann/json.hpp>
 #include <stb/stb_image_write.h>
 
@@ -528,6 +530,120 @@ TEST_F(GltfMutated, VertexColoursRgbFloatsAndRgbaBytes) {
   doc["accessors"][4]["count"] = 4;
   doc["accessors"][4]["type"] = "SCALAR";
   expectError(doc, "COLOR_0");
+}
+
+// A data URI holding `bytes` (base64), for buffers the tests below add to the fixture.
+std::string dataUri(const std::string& bytes) {
+  static const char* kDigits = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out = "data:application/octet-stream;base64,";
+  for (size_t i = 0; i < bytes.size(); i += 3) {
+    uint32_t n = uint32_t(uint8_t(bytes[i])) << 16;
+    if (i + 1 < bytes.size()) n |= uint32_t(uint8_t(bytes[i + 1])) << 8;
+    if (i + 2 < bytes.size()) n |= uint32_t(uint8_t(bytes[i + 2]));
+    out += kDigits[(n >> 18) & 63];
+    out += kDigits[(n >> 12) & 63];
+    out += i + 1 < bytes.size() ? kDigits[(n >> 6) & 63] : '=';
+    out += i + 2 < bytes.size() ? kDigits[n & 63] : '=';
+  }
+  return out;
+}
+
+template <class T>
+std::string bytesOf(const std::vector<T>& values) {
+  return std::string(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
+}
+
+// Morph targets at their default weights: mesh.weights pose every node's mesh, node.weights
+// override them for that node (a primitive of its own); zero weights leave the mesh as stored.
+TEST_F(GltfMutated, MorphTargetsAtTheirDefaultWeights) {
+  json doc = base_;
+  // One target displacing POSITION and NORMAL by the normals' (0, 0, 1).
+  doc["meshes"][0]["primitives"][0]["targets"] = json::array({{{"POSITION", 1}, {"NORMAL", 1}, {"TEXCOORD_0", 2}}});
+  doc["meshes"][0]["weights"] = {0.0};
+  std::vector<std::string> errors;
+  auto scene = loadGltf(write("morph0.gltf", doc.dump()), errors);
+  ASSERT_TRUE(scene) << errors[0];
+  ASSERT_EQ(scene->primitives.size(), 1u);
+  EXPECT_EQ(scene->primitives[0].positions[2], Vec3(1.0f, 1.0f, 0.0f));
+
+  doc["meshes"][0]["weights"] = {0.5};
+  doc["nodes"][2]["weights"] = {2.0};  // quad2
+  scene = loadGltf(write("morph.gltf", doc.dump()), errors);
+  ASSERT_TRUE(scene) << errors[0];
+  ASSERT_EQ(scene->primitives.size(), 2u);  // the mesh at 0.5 (node quad) and at 2 (node quad2)
+  ASSERT_EQ(scene->instances.size(), 2u);
+  for (const MeshInstance& instance : scene->instances) {
+    const float w = instance.nodeName == "quad2" ? 2.0f : 0.5f;
+    const MeshPrimitive& prim = scene->primitives[size_t(instance.primitive)];
+    EXPECT_EQ(prim.positions[0], Vec3(-1.0f, -1.0f, w)) << instance.nodeName;
+    EXPECT_EQ(prim.positions[2], Vec3(1.0f, 1.0f, w)) << instance.nodeName;
+    EXPECT_EQ(prim.normals[1], Vec3(0.0f, 0.0f, 1.0f + w)) << instance.nodeName;
+    EXPECT_EQ(prim.uv0[1], Vec2(1.0f, 1.0f)) << instance.nodeName;  // TEXCOORD_0 targets are not applied
+  }
+  EXPECT_TRUE(anyContains(scene->warnings, "TEXCOORD_0 is not applied"));
+
+  doc["accessors"].push_back({{"bufferView", 2}, {"componentType", 5126}, {"count", 4}, {"type", "VEC2"}});
+  doc["meshes"][0]["primitives"][0]["targets"][0]["POSITION"] = 4;  // VEC2: not a displacement
+  expectError(doc, "morph target 0 POSITION");
+}
+
+// Skinning in the rest pose: each vertex is placed by its joints' world transforms times their
+// inverse bind matrices, blended by its weights; the skinned node's own transform (a scale of 2
+// here) is ignored. A joint outside the scene leaves the mesh unskinned, with a warning.
+TEST_F(GltfMutated, SkinnedMeshesArePlacedByTheirJointsInTheRestPose) {
+  json doc = base_;
+  const std::vector<uint8_t> joints = {0, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0};
+  const std::vector<float> weights = {1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 0.25f, 0.75f, 0, 0};
+  Mat4 inverseBind1(1.0f);
+  inverseBind1[3] = Vec4(1.0f, 0.0f, 0.0f, 1.0f);  // translate by +x before the joint's transform
+  const std::vector<Mat4> inverseBind = {Mat4(1.0f), inverseBind1};
+  const std::string skinBytes = bytesOf(joints) + bytesOf(weights) + bytesOf(inverseBind);
+  doc["buffers"].push_back({{"byteLength", skinBytes.size()}, {"uri", dataUri(skinBytes)}});
+  doc["bufferViews"].push_back({{"buffer", 1}, {"byteOffset", 0}, {"byteLength", 16}});
+  doc["bufferViews"].push_back({{"buffer", 1}, {"byteOffset", 16}, {"byteLength", 64}});
+  doc["bufferViews"].push_back({{"buffer", 1}, {"byteOffset", 80}, {"byteLength", 128}});
+  doc["accessors"].push_back({{"bufferView", 4}, {"componentType", 5121}, {"count", 4}, {"type", "VEC4"}});
+  doc["accessors"].push_back({{"bufferView", 5}, {"componentType", 5126}, {"count", 4}, {"type", "VEC4"}});
+  doc["accessors"].push_back({{"bufferView", 6}, {"componentType", 5126}, {"count", 2}, {"type", "MAT4"}});
+  doc["meshes"][0]["primitives"][0]["attributes"]["JOINTS_0"] = 4;
+  doc["meshes"][0]["primitives"][0]["attributes"]["WEIGHTS_0"] = 5;
+  doc["skins"] = json::array({{{"joints", {0, 2}}, {"inverseBindMatrices", 6}}});
+  doc["nodes"][1]["skin"] = 0;  // node "quad" (scale 2), child of "root" (z = -2)
+  std::vector<std::string> errors;
+  auto scene = loadGltf(write("skin.gltf", doc.dump()), errors);
+  ASSERT_TRUE(scene) << errors[0];
+
+  const Mat4 root = glm::translate(Mat4(1.0f), Vec3(0.0f, 0.0f, -2.0f));
+  const Mat4 quad2 = root * glm::mat4_cast(glm::quat(0.7071068f, 0.0f, 0.7071068f, 0.0f));  // (w, x, y, z)
+  const Mat4 joint[2] = {root, quad2 * inverseBind1};
+  const Vec3 object[4] = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}};
+  const MeshInstance* skinned = nullptr;
+  for (const MeshInstance& instance : scene->instances)
+    if (instance.nodeName == "quad") skinned = &instance;
+  ASSERT_TRUE(skinned);
+  EXPECT_EQ(skinned->objectToWorld, Mat4(1.0f));
+  const MeshPrimitive& prim = scene->primitives[size_t(skinned->primitive)];
+  for (int v = 0; v < 4; ++v) {
+    const Mat4 m = v < 2 ? joint[0] : v == 2 ? joint[1] : 0.25f * joint[0] + 0.75f * joint[1];
+    const Vec3 expected = Vec3(m * Vec4(object[v], 1.0f));
+    EXPECT_LT(glm::length(prim.positions[size_t(v)] - expected), 1e-5f) << "vertex " << v;
+    EXPECT_NEAR(glm::length(prim.normals[size_t(v)]), 1.0f, 1e-5f);
+  }
+  // Vertex 2 follows joint 1 (rotated 90 degrees about y): its normal turns from +z to +x.
+  EXPECT_LT(glm::length(prim.normals[2] - Vec3(1.0f, 0.0f, 0.0f)), 1e-5f);
+  // The unskinned node quad2 still uses the mesh as stored.
+  EXPECT_EQ(scene->primitives[0].positions[0], Vec3(-1.0f, -1.0f, 0.0f));
+
+  doc["skins"][0]["joints"] = {0, 7};  // no node 7 in the file
+  scene = loadGltf(write("skin-outside.gltf", doc.dump()), errors);
+  ASSERT_TRUE(scene) << errors[0];
+  EXPECT_TRUE(anyContains(scene->warnings, "unskinned"));
+  doc["skins"][0]["joints"] = {0, 2};
+  doc["accessors"][6]["count"] = 1;  // one inverse bind matrix for two joints
+  expectError(doc, "inverse bind matrices");
+  doc["accessors"][6]["count"] = 2;
+  doc["nodes"][1]["skin"] = 3;
+  expectError(doc, "skin 3, which does not exist");
 }
 
 TEST_F(GltfMutated, NonIndexedAndStripPrimitives) {
