@@ -16,6 +16,7 @@
 #include "renderer/scene/gltf_images.h"
 #include "renderer/scene/gltf_import.h"
 #include "renderer/scene/gltf_pose.h"
+#include "renderer/scene/gltf_tangents.h"
 
 namespace tex::render {
 
@@ -185,6 +186,13 @@ class Importer {
     if (prim.material >= 0) {
       if (size_t(prim.material) < model_.materials.size()) out.material = prim.material + in_.materialOffset;
       else in_.warn(where + " uses material " + std::to_string(prim.material) + ", which does not exist; using the default");
+    }
+    // Normal maps need a tangent frame: generated per vertex when the file has none.
+    if (out.tangents.empty() && !out.normals.empty() && out.material >= 0 &&
+        size_t(out.material) < in_.scene.materials.size()) {
+      const TextureRef& normalMap = in_.scene.materials[size_t(out.material)].normalTexture;
+      const std::vector<Vec2>& uv = normalMap.texCoord == 1 ? out.uv1 : out.uv0;
+      if (normalMap.image >= 0 && !uv.empty()) out.tangents = generateTangents(out, uv);
     }
     return true;
   }

@@ -698,6 +698,31 @@ TEST_F(GltfMutated, MaterialExtensionsAndTextureTransforms) {
   EXPECT_TRUE(anyContains(scene->warnings, "VENDOR_unknown"));
 }
 
+// A normal-mapped material on a mesh without TANGENT gets per-vertex tangents (of the normal
+// texture's uv set); without a normal map nothing is generated.
+TEST_F(GltfMutated, NormalMapsWithoutTangentsGetVertexTangents) {
+  const unsigned char pixels[] = {128, 128, 255, 128, 128, 255};
+  ASSERT_NE(stbi_write_png((dir_ / "flat.png").c_str(), 2, 1, 3, pixels, 6), 0);
+  json doc = base_;
+  std::vector<std::string> errors;
+  auto scene = loadGltf(write("plain.gltf", doc.dump()), errors);
+  ASSERT_TRUE(scene) << errors[0];
+  EXPECT_TRUE(scene->primitives[0].tangents.empty());
+
+  doc["images"] = json::array({{{"uri", "flat.png"}}});
+  doc["textures"] = json::array({{{"source", 0}}});
+  doc["materials"][0]["normalTexture"] = {{"index", 0}};
+  scene = loadGltf(write("normalmap.gltf", doc.dump()), errors);
+  ASSERT_TRUE(scene) << errors[0];
+  const MeshPrimitive& prim = scene->primitives[0];
+  ASSERT_EQ(prim.tangents.size(), prim.positions.size());
+  // The quad lies in z = 0 with u growing along +x and v along -y (glTF's image rows).
+  for (const Vec4& t : prim.tangents) {
+    EXPECT_LT(glm::length(Vec3(t) - Vec3(1.0f, 0.0f, 0.0f)), 1e-5f);
+    EXPECT_EQ(t.w, 1.0f);
+  }
+}
+
 TEST_F(GltfMutated, TextureTransformOnAnExtensionTexture) {
   // A 2x1 RGB PNG next to the fixture, as an external image.
   const unsigned char pixels[] = {255, 0, 0, 0, 128, 255};
