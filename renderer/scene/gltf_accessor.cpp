@@ -2,6 +2,7 @@
 // ("Buffers, buffer views and accessors") and 3.6.2.3 (sparse accessors).
 #include "renderer/scene/gltf_accessor.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -54,9 +55,11 @@ bool componentAllowed(int componentType, bool normalized, unsigned allowed) {
   switch (componentType) {
     case TINYGLTF_COMPONENT_TYPE_FLOAT: return allowed & kFloatComponents;
     case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
-      return (allowed & kUnsignedIntegers) || (normalized && (allowed & kNormalizedUint8));
+      return (allowed & kUnsignedIntegers) || (normalized ? (allowed & kNormalizedUint8) : (allowed & kSmallIntegers));
     case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
-      return (allowed & kUnsignedIntegers) || (normalized && (allowed & kNormalizedUint16));
+      return (allowed & kUnsignedIntegers) || (normalized ? (allowed & kNormalizedUint16) : (allowed & kSmallIntegers));
+    case TINYGLTF_COMPONENT_TYPE_BYTE: return normalized ? (allowed & kNormalizedInt8) : (allowed & kSmallIntegers);
+    case TINYGLTF_COMPONENT_TYPE_SHORT: return normalized ? (allowed & kNormalizedInt16) : (allowed & kSmallIntegers);
     case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: return allowed & kUnsignedIntegers;
     default: return false;
   }
@@ -65,6 +68,15 @@ bool componentAllowed(int componentType, bool normalized, unsigned allowed) {
 double decodeComponent(const unsigned char* p, int componentType, bool normalized) {
   switch (componentType) {
     case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return normalized ? p[0] / 255.0 : p[0];
+    case TINYGLTF_COMPONENT_TYPE_BYTE: {
+      const int8_t v = int8_t(p[0]);
+      return normalized ? std::max(v / 127.0, -1.0) : v;
+    }
+    case TINYGLTF_COMPONENT_TYPE_SHORT: {
+      int16_t v;
+      std::memcpy(&v, p, 2);
+      return normalized ? std::max(v / 32767.0, -1.0) : v;
+    }
     case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
       uint16_t v;
       std::memcpy(&v, p, 2);

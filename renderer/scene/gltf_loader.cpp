@@ -26,7 +26,7 @@ namespace {
 const std::set<std::string> kSupportedExtensions = {
     "KHR_texture_transform",       "KHR_materials_emissive_strength", "KHR_materials_transmission",
     "KHR_materials_ior",           "KHR_materials_dispersion",        "KHR_materials_volume",
-    "KHR_lights_punctual",
+    "KHR_lights_punctual",         "KHR_mesh_quantization",
 };
 
 constexpr int kMaxNodeDepth = 1024;
@@ -60,9 +60,10 @@ class Importer {
   void fail(const std::string& message) { errors_.push_back(in_.file + ": " + message); }
 
   // ---- meshes ---------------------------------------------------------------------------
-  bool readVec3s(int accessor, std::vector<Vec3>& out, const std::string& what) {
+  // Component types: floats, and KHR_mesh_quantization's integers (`allowed`).
+  bool readVec3s(int accessor, std::vector<Vec3>& out, const std::string& what, unsigned allowed) {
     std::vector<float> f;
-    std::string err = readFloatAccessor(model_, accessor, TINYGLTF_TYPE_VEC3, kFloatComponents, f);
+    std::string err = readFloatAccessor(model_, accessor, TINYGLTF_TYPE_VEC3, allowed, f);
     if (!err.empty()) return fail(what + ": " + err), false;
     out.resize(f.size() / 3);
     for (size_t i = 0; i < out.size(); ++i) out[i] = Vec3(f[3 * i], f[3 * i + 1], f[3 * i + 2]);
@@ -70,8 +71,7 @@ class Importer {
   }
   bool readVec2s(int accessor, std::vector<Vec2>& out, const std::string& what) {
     std::vector<float> f;
-    std::string err = readFloatAccessor(model_, accessor, TINYGLTF_TYPE_VEC2,
-                                        kFloatComponents | kNormalizedUint8 | kNormalizedUint16, f);
+    std::string err = readFloatAccessor(model_, accessor, TINYGLTF_TYPE_VEC2, kQuantizedCoordinates, f);
     if (!err.empty()) return fail(what + ": " + err), false;
     out.resize(f.size() / 2);
     for (size_t i = 0; i < out.size(); ++i) out[i] = Vec2(f[2 * i], f[2 * i + 1]);
@@ -79,7 +79,7 @@ class Importer {
   }
   bool readVec4s(int accessor, std::vector<Vec4>& out, const std::string& what) {
     std::vector<float> f;
-    std::string err = readFloatAccessor(model_, accessor, TINYGLTF_TYPE_VEC4, kFloatComponents, f);
+    std::string err = readFloatAccessor(model_, accessor, TINYGLTF_TYPE_VEC4, kQuantizedDirections, f);
     if (!err.empty()) return fail(what + ": " + err), false;
     out.resize(f.size() / 4);
     for (size_t i = 0; i < out.size(); ++i) out[i] = Vec4(f[4 * i], f[4 * i + 1], f[4 * i + 2], f[4 * i + 3]);
@@ -138,7 +138,7 @@ class Importer {
     out.meshName = mesh.name;
     const int position = attribute("POSITION");
     if (position < 0) return fail(where + " has no POSITION attribute"), false;
-    if (!readVec3s(position, out.positions, where + " POSITION")) return false;
+    if (!readVec3s(position, out.positions, where + " POSITION", kQuantizedCoordinates)) return false;
     const size_t vertexCount = out.positions.size();
     auto sameCount = [&](size_t n, const char* name) {
       if (n == vertexCount) return true;
@@ -147,7 +147,8 @@ class Importer {
       return false;
     };
     if (int a = attribute("NORMAL"); a >= 0)
-      if (!readVec3s(a, out.normals, where + " NORMAL") || !sameCount(out.normals.size(), "NORMAL")) return false;
+      if (!readVec3s(a, out.normals, where + " NORMAL", kQuantizedDirections) || !sameCount(out.normals.size(), "NORMAL"))
+        return false;
     if (int a = attribute("TEXCOORD_0"); a >= 0)
       if (!readVec2s(a, out.uv0, where + " TEXCOORD_0") || !sameCount(out.uv0.size(), "TEXCOORD_0")) return false;
     if (int a = attribute("TEXCOORD_1"); a >= 0)

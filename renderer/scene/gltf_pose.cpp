@@ -10,11 +10,10 @@ namespace tex::render {
 
 namespace {
 
-// A VEC3 displacement accessor (float, or the normalized integers KHR_mesh_quantization
-// allows; signed ones are refused by the accessor reader) with one element per vertex.
+// A VEC3 displacement accessor (float, or the integers KHR_mesh_quantization allows) with one
+// element per vertex.
 std::string readDisplacements(const tinygltf::Model& model, int accessor, size_t vertices, std::vector<float>& out) {
-  std::string err =
-      readFloatAccessor(model, accessor, TINYGLTF_TYPE_VEC3, kFloatComponents | kNormalizedUint8 | kNormalizedUint16, out);
+  std::string err = readFloatAccessor(model, accessor, TINYGLTF_TYPE_VEC3, kQuantizedCoordinates, out);
   if (!err.empty()) return err;
   if (out.size() != vertices * 3)
     return "has " + std::to_string(out.size() / 3) + " elements but POSITION has " + std::to_string(vertices);

@@ -496,8 +496,12 @@ TEST_F(GltfMutated, NormalizedByteTexcoords) {
   auto scene = loadGltf(write("uv1.gltf", doc.dump()), errors);
   ASSERT_TRUE(scene) << errors[0];
   EXPECT_EQ(scene->primitives[0].uv1, (std::vector<Vec2>{{0, 0}, {1 / 255.0f, 0}, {2 / 255.0f, 0}, {0, 0}}));
-  doc["accessors"][4]["normalized"] = false;  // plain integers are not texture coordinates
-  expectError(doc, "componentType 5121");
+  doc["accessors"][4]["normalized"] = false;  // plain bytes are (KHR_mesh_quantization): read exactly
+  scene = loadGltf(write("uv1-bytes.gltf", doc.dump()), errors);
+  ASSERT_TRUE(scene) << errors[0];
+  EXPECT_EQ(scene->primitives[0].uv1, (std::vector<Vec2>{{0, 0}, {1, 0}, {2, 0}, {0, 0}}));
+  doc["accessors"][4]["componentType"] = 5125;  // 32-bit integers are not texture coordinates
+  expectError(doc, "componentType 5125");
 }
 
 // COLOR_0: RGB floats read with alpha 1, RGBA normalized bytes as value / 255; a count that
@@ -644,6 +648,44 @@ TEST_F(GltfMutated, SkinnedMeshesArePlacedByTheirJointsInTheRestPose) {
   doc["accessors"][6]["count"] = 2;
   doc["nodes"][1]["skin"] = 3;
   expectError(doc, "skin 3, which does not exist");
+}
+
+// KHR_mesh_quantization: positions as normalized shorts, normals as normalized bytes (each
+// element padded to 4 bytes, as the extension requires), texture coordinates as plain
+// unsigned shorts; signed values decode as max(c / 127 or 32767, -1). The extension may be
+// required. Normals as plain (unnormalized) bytes are still refused.
+TEST_F(GltfMutated, QuantizedAttributes) {
+  json doc = base_;
+  const std::vector<int16_t> positions = {-32768, -32767, 0, 0, 32767, -32767, 0, 0, 32767, 32767, 16384, 0, -32767, 32767, 0, 0};
+  const std::vector<int8_t> normals = {0, 0, 127, 0, 0, -128, 127, 0, 0, 0, 127, 0, -127, 0, 0, 0};
+  const std::vector<uint16_t> uv = {0, 0, 3, 0, 3, 2, 0, 2};
+  const std::string bytes = bytesOf(positions) + bytesOf(normals) + bytesOf(uv);
+  doc["buffers"].push_back({{"byteLength", bytes.size()}, {"uri", dataUri(bytes)}});
+  doc["bufferViews"].push_back({{"buffer", 1}, {"byteOffset", 0}, {"byteLength", 32}, {"byteStride", 8}});
+  doc["bufferViews"].push_back({{"buffer", 1}, {"byteOffset", 32}, {"byteLength", 16}, {"byteStride", 4}});
+  doc["bufferViews"].push_back({{"buffer", 1}, {"byteOffset", 48}, {"byteLength", 16}});
+  doc["accessors"].push_back({{"bufferView", 4}, {"componentType", 5122}, {"normalized", true}, {"count", 4}, {"type", "VEC3"}});
+  doc["accessors"].push_back({{"bufferView", 5}, {"componentType", 5120}, {"normalized", true}, {"count", 4}, {"type", "VEC3"}});
+  doc["accessors"].push_back({{"bufferView", 6}, {"componentType", 5123}, {"count", 4}, {"type", "VEC2"}});
+  json& attributes = doc["meshes"][0]["primitives"][0]["attributes"];
+  attributes["POSITION"] = 4;
+  attributes["NORMAL"] = 5;
+  attributes["TEXCOORD_0"] = 6;
+  doc["extensionsUsed"] = {"KHR_mesh_quantization"};
+  doc["extensionsRequired"] = {"KHR_mesh_quantization"};
+  std::vector<std::string> errors;
+  auto scene = loadGltf(write("quantized.gltf", doc.dump()), errors);
+  ASSERT_TRUE(scene) << errors[0];
+  const MeshPrimitive& prim = scene->primitives[0];
+  EXPECT_EQ(prim.positions[0], Vec3(-1.0f, -1.0f, 0.0f));  // -32768 clamps to -1
+  EXPECT_EQ(prim.positions[1], Vec3(1.0f, -1.0f, 0.0f));
+  EXPECT_EQ(prim.positions[2], Vec3(1.0f, 1.0f, float(16384.0 / 32767.0)));
+  EXPECT_EQ(prim.normals[0], Vec3(0.0f, 0.0f, 1.0f));
+  EXPECT_EQ(prim.normals[1], Vec3(0.0f, -1.0f, 1.0f));  // -128 clamps to -1
+  EXPECT_EQ(prim.normals[3], Vec3(-1.0f, 0.0f, 0.0f));
+  EXPECT_EQ(prim.uv0[2], Vec2(3.0f, 2.0f));
+  doc["accessors"][5]["normalized"] = false;
+  expectError(doc, "componentType 5120");
 }
 
 TEST_F(GltfMutated, NonIndexedAndStripPrimitives) {
