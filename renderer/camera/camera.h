@@ -6,6 +6,9 @@
 // flagged), pdfDirW per solid angle. Importance We is normalised so that the film integral of
 // a measurement is the pixel value: We(ray) = 1 / (A_film cos^4(theta)) for the image plane
 // at distance 1 with area A_film, times 1/(lens area) for a thin lens (pbrt-v4, section 5.4.1).
+// An orthographic camera is the other way round: rays leave a film rectangle of area A (world
+// units) uniformly, all along the view direction (a Dirac in direction, reported as 1):
+// We = 1 / A per unit area, for that one direction.
 #pragma once
 #include <memory>
 #include <optional>
@@ -27,7 +30,8 @@ struct CameraWiSample {
   Vec3 pLens;                   // the lens point
   float distance = 0;
   float We = 0;                 // importance arriving at the reference point along -wi
-  float pdfW = 0;               // solid-angle density at the reference point (pinhole: the Dirac's mass as 1)
+  float pdfW = 0;               // solid-angle density at the reference point (pinhole: the Dirac's mass as 1;
+                                // orthographic: 1, the Dirac in direction, with no 1/distance^2)
 };
 
 struct CameraSettings {
@@ -36,6 +40,9 @@ struct CameraSettings {
   float aspect = 1.0f;       // width / height of the film
   float lensRadius = 0.0f;   // 0: pinhole
   float focusDistance = 1.0f;
+  // > 0: orthographic, with a film this many world units from its centre to its top edge
+  // (glTF's ymag; the width follows the aspect); yFovRadians and the lens are then unused.
+  float orthoHalfHeight = 0.0f;
 };
 
 class Camera {
@@ -43,7 +50,8 @@ class Camera {
   explicit Camera(const CameraSettings& settings);
 
   const CameraSettings& settings() const { return settings_; }
-  bool isPinhole() const { return settings_.lensRadius <= 0.0f; }
+  bool isOrthographic() const { return settings_.orthoHalfHeight > 0.0f; }
+  bool isPinhole() const { return !isOrthographic() && settings_.lensRadius <= 0.0f; }
   Vec3 position() const { return origin_; }
   Vec3 forward() const { return forward_; }
 
@@ -61,6 +69,7 @@ class Camera {
   CameraSettings settings_;
   Vec3 origin_, right_, up_, forward_;
   float tanHalfY_ = 0, tanHalfX_ = 0, filmAreaAtDistance1_ = 0;
+  float orthoHalfX_ = 0, orthoHalfY_ = 0, orthoFilmArea_ = 0;  // orthographic: the film in world units
 };
 
 }  // namespace tex::render

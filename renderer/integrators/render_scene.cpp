@@ -50,6 +50,7 @@ CameraSettings chooseCamera(const SceneDescription& scene, const Bounds3& bounds
     s.yFovRadians = c.yFovRadians;
     s.lensRadius = c.lensRadius;
     s.focusDistance = c.focusDistance;
+    s.orthoHalfHeight = c.orthoHalfHeight;
     return s;
   }
   // Frame the bounding sphere: look at its centre from +z and a little above, far enough that

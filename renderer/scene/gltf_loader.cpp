@@ -310,17 +310,26 @@ class Importer {
       return;
     }
     const tinygltf::Camera& cam = model_.cameras[size_t(node.camera)];
-    if (cam.type != "perspective") {
-      in_.warnOnce("camera/" + cam.type, "camera " + std::to_string(node.camera) + " is " + cam.type +
-                                             "; only perspective cameras are supported, ignored");
+    CameraDesc desc;
+    if (cam.type == "orthographic") {
+      // glTF's xmag / ymag: half the film's width and height in world units.
+      const double xmag = cam.orthographic.xmag, ymag = cam.orthographic.ymag;
+      if (!(ymag > 0.0 && std::isfinite(ymag))) {
+        in_.warn("camera " + std::to_string(node.camera) + " has ymag " + std::to_string(ymag) + ", not positive; ignored");
+        return;
+      }
+      desc.orthoHalfHeight = float(ymag);
+      desc.aspect = std::isfinite(xmag) && xmag > 0.0 ? float(xmag / ymag) : 0.0f;
+    } else if (cam.type != "perspective") {
+      in_.warnOnce("camera/" + cam.type, "camera " + std::to_string(node.camera) + " is of type \"" + cam.type +
+                                             "\" (perspective or orthographic); ignored");
       return;
     }
     const double yfov = cam.perspective.yfov;
-    if (!(yfov > 0.0 && yfov < double(kPi))) {
+    if (cam.type == "perspective" && !(yfov > 0.0 && yfov < double(kPi))) {
       in_.warn("camera " + std::to_string(node.camera) + " has yfov " + std::to_string(yfov) + ", outside (0, pi); ignored");
       return;
     }
-    CameraDesc desc;
     desc.name = cam.name.empty() ? node.name : cam.name;
     // Cameras are rigid: drop any scale in the node chain (glTF says it should have none).
     desc.cameraToWorld = world;
@@ -329,9 +338,11 @@ class Importer {
       const float len = glm::length(axis);
       if (len > 0.0f) desc.cameraToWorld[c] = Vec4(axis / len, 0.0f);
     }
-    desc.yFovRadians = float(yfov);
-    const double aspect = cam.perspective.aspectRatio;
-    desc.aspect = std::isfinite(aspect) && aspect > 0.0 ? float(aspect) : 0.0f;
+    if (cam.type == "perspective") {
+      desc.yFovRadians = float(yfov);
+      const double aspect = cam.perspective.aspectRatio;
+      desc.aspect = std::isfinite(aspect) && aspect > 0.0 ? float(aspect) : 0.0f;
+    }
     in_.scene.cameras.push_back(desc);
   }
 

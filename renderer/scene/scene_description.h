@@ -126,6 +126,7 @@ struct CameraDesc {
   float aspect = 0;          // 0: from the render resolution
   float lensRadius = 0;
   float focusDistance = 1;
+  float orthoHalfHeight = 0;  // > 0: orthographic (glTF ymag), yFovRadians unused
 };
 
 struct LightDesc {

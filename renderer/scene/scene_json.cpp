@@ -217,7 +217,7 @@ class SceneJsonLoader {
   }
 
   void camera(const JsonAt& at, std::vector<CameraDesc>& out) {
-    if (!r_.checkKeys(at, {"type", "name", "from", "to", "up", "fov_deg", "aspect", "lens_radius", "focus_distance"}))
+    if (!r_.checkKeys(at, {"type", "name", "from", "to", "up", "fov_deg", "aspect", "lens_radius", "focus_distance", "ymag"}))
       return;
     std::string type = "perspective";
     CameraDesc c;
@@ -227,10 +227,17 @@ class SceneJsonLoader {
         !r_.vec3(at, "to", to) || !r_.vec3(at, "up", up) || !r_.number(at, "fov_deg", fovDeg, 1e-3f, 179.0f) ||
         !r_.number(at, "aspect", c.aspect, 0))
       return;
-    if (type != "perspective" && type != "thinlens")
-      return r_.error(r_.child(at, "type"), "unknown camera type \"" + type + "\" (perspective or thinlens)");
-    if (type == "perspective" && (r_.child(at, "lens_radius") || r_.child(at, "focus_distance")))
+    if (type != "perspective" && type != "thinlens" && type != "orthographic")
+      return r_.error(r_.child(at, "type"), "unknown camera type \"" + type + "\" (perspective, thinlens or orthographic)");
+    if (type != "thinlens" && (r_.child(at, "lens_radius") || r_.child(at, "focus_distance")))
       return r_.error(at, "lens_radius and focus_distance need \"type\": \"thinlens\"");
+    if (type == "orthographic") {
+      if (r_.child(at, "fov_deg")) return r_.error(r_.child(at, "fov_deg"), "an orthographic camera has no field of view (use ymag)");
+      if (!r_.child(at, "ymag")) return r_.error(at, "an orthographic camera needs \"ymag\" (half the film's height, world units)");
+      if (!r_.number(at, "ymag", c.orthoHalfHeight, 1e-30f)) return;
+    } else if (r_.child(at, "ymag")) {
+      return r_.error(r_.child(at, "ymag"), "ymag needs \"type\": \"orthographic\"");
+    }
     // Camera looks down its local -z (glTF convention).
     const Vec3 back = from - to;
     if (!(glm::length(back) > 0)) return r_.error(r_.child(at, "to"), "\"from\" and \"to\" are the same point");

@@ -34,6 +34,13 @@ CameraSettings skewedSettings(float lensRadius) {
 
 Vec2 next2(sampling::Pcg32& rng) { return Vec2(rng.nextFloat(), rng.nextFloat()); }
 
+// The skewed camera made orthographic: a film 2.4 units high (glTF ymag 1.2), 3.84 wide.
+CameraSettings orthographicSettings() {
+  CameraSettings s = skewedSettings(0.0f);
+  s.orthoHalfHeight = 1.2f;
+  return s;
+}
+
 class CameraBothKinds : public ::testing::TestWithParam<float> {};
 
 TEST_P(CameraBothKinds, GenerateRayThenWeReturnsTheFilmPositionAndUnitWeight) {
@@ -203,6 +210,90 @@ TEST(Camera, ImportanceIntegratesToOne) {
   }
 }
 
+// Orthographic: rays leave the film rectangle (film (0,0) at its top left) along the view
+// direction; We gives the film position back with 1 / area, and only for that direction.
+TEST(Camera, OrthographicRaysLeaveTheFilmRectangleAlongTheViewDirection) {
+  const Camera camera(orthographicSettings());
+  ASSERT_TRUE(camera.isOrthographic());
+  EXPECT_FALSE(camera.isPinhole());
+  const Mat4& m = camera.settings().cameraToWorld;
+  const Vec3 right = glm::normalize(Vec3(m[0])), up = glm::normalize(Vec3(m[1]));
+  const float halfY = 1.2f, halfX = 1.2f * camera.settings().aspect, area = 4.0f * halfX * halfY;
+  sampling::Pcg32 rng(13, 3);
+  for (int i = 0; i < 2000; ++i) {
+    const FilmPosition film{rng.nextFloat(), rng.nextFloat()};
+    const CameraRay r = camera.generateRay(film, next2(rng));
+    EXPECT_GT(dot3(r.ray.direction, camera.forward()), 1.0f - 1e-6f);
+    const Vec3 local = r.ray.origin - camera.position();
+    EXPECT_NEAR(dot3(local, right), (2.0f * film.x - 1.0f) * halfX, 1e-4f);
+    EXPECT_NEAR(dot3(local, up), (1.0f - 2.0f * film.y) * halfY, 1e-4f);
+    FilmPosition back{-1, -1};
+    const float we = camera.We(r.ray, &back);
+    EXPECT_NEAR(we, 1.0f / area, 1e-6f);
+    EXPECT_NEAR(back.x, film.x, 1e-4f);
+    EXPECT_NEAR(back.y, film.y, 1e-4f);
+    float pdfPosA = 0, pdfDirW = 0;
+    camera.pdfWe(r.ray, pdfPosA, pdfDirW);
+    EXPECT_NEAR(we / (pdfPosA * pdfDirW), r.weight, 1e-4f);
+    // Another direction from the same point carries nothing.
+    const Vec3 tilted = glm::normalize(r.ray.direction + 1e-2f * right);
+    EXPECT_EQ(camera.We(Ray{r.ray.origin, tilted}, nullptr), 0.0f);
+  }
+  EXPECT_EQ(camera.We(Ray{camera.position(), -camera.forward()}, nullptr), 0.0f);
+}
+
+// Chi-square of the orthographic rays' origins on the camera plane (a margin of 1/8 around the
+// film) against pdfPosA: uniform on the film, nothing outside.
+TEST(Camera, OrthographicRayOriginsFollowPdfWe) {
+  const Camera camera(orthographicSettings());
+  const Mat4& m = camera.settings().cameraToWorld;
+  const Vec3 right = glm::normalize(Vec3(m[0])), up = glm::normalize(Vec3(m[1]));
+  const float halfY = 1.2f, halfX = 1.2f * camera.settings().aspect;
+  constexpr float kMargin = 0.125f, kSpan = 1.0f + 2.0f * kMargin;
+  const float binToPlaneArea = (2.0f * halfX * kSpan) * (2.0f * halfY * kSpan);
+  const test::ChiSquareResult r = test::chiSquarePoints(
+      [&](Vec2 u, float) -> std::optional<Vec2> {
+        const Vec3 local = camera.generateRay({u.x, u.y}, Vec2(0.5f)).ray.origin - camera.position();
+        const float fx = 0.5f * (dot3(local, right) / halfX + 1.0f), fy = 0.5f * (1.0f - dot3(local, up) / halfY);
+        return Vec2((fx + kMargin) / kSpan, (fy + kMargin) / kSpan);
+      },
+      [&](Vec2 b) -> double {
+        const float fx = b.x * kSpan - kMargin, fy = b.y * kSpan - kMargin;
+        const Vec3 origin = camera.position() + right * ((2.0f * fx - 1.0f) * halfX) + up * ((1.0f - 2.0f * fy) * halfY);
+        float pdfPosA, pdfDirW;
+        camera.pdfWe(Ray{origin, camera.forward()}, pdfPosA, pdfDirW);
+        return double(pdfPosA) * binToPlaneArea;
+      },
+      /*bins=*/80);
+  EXPECT_TRUE(r.passed) << r.detail;
+}
+
+// Orthographic sampleWi: the reference point's projection on the film plane, along -forward,
+// at its distance along the axis; outside the film or behind the camera, nothing.
+TEST(Camera, OrthographicSampleWiProjectsAlongTheViewDirection) {
+  const Camera camera(orthographicSettings());
+  sampling::Pcg32 rng(17, 4);
+  int hits = 0;
+  for (int i = 0; i < 4000; ++i) {
+    const Ray probe = camera.generateRay({rng.nextFloat() * 1.4f - 0.2f, rng.nextFloat() * 1.4f - 0.2f}, Vec2(0.5f)).ray;
+    const float depth = 0.5f + 6.0f * rng.nextFloat();
+    const Vec3 ref = probe.origin + probe.direction * depth;
+    const std::optional<CameraWiSample> s = camera.sampleWi(ref, next2(rng));
+    if (!s) continue;
+    ++hits;
+    const CameraRay r = camera.generateRay(s->film, Vec2(0.5f));
+    EXPECT_NEAR(glm::distance(r.ray.origin, s->pLens), 0.0f, 1e-4f);
+    EXPECT_NEAR(glm::distance(s->pLens, probe.origin), 0.0f, 1e-4f);
+    EXPECT_GT(dot3(-s->wi, camera.forward()), 1.0f - 1e-6f);
+    EXPECT_NEAR(s->distance, depth, 1e-4f * depth);
+    EXPECT_EQ(s->pdfW, 1.0f);
+    EXPECT_NEAR(s->We, camera.We(r.ray, nullptr), 1e-6f);
+  }
+  EXPECT_GT(hits, 1500);  // about half of the points project inside the film
+  EXPECT_LT(hits, 2600);
+  EXPECT_FALSE(camera.sampleWi(camera.position() - camera.forward() * 2.0f, Vec2(0.5f)));  // behind
+}
+
 // A one-sided square emitter of radiance 1 facing the camera, partly covering the view.
 struct SquareEmitter {
   Vec3 corner, edgeU, edgeV, n;
@@ -223,17 +314,20 @@ struct SquareEmitter {
 };
 
 // The pixel values of a 4x4 film seen by camera rays and by light tracing (points on the
-// emitter connected to the lens with sampleWi) agree: pbrt-v4's importance normalisation.
+// emitter connected to the lens with sampleWi) agree: pbrt-v4's importance normalisation, and
+// the orthographic camera's Dirac in direction (pdfW 1, no distance falloff).
 TEST(Camera, LightTracingAndCameraRaysMeasureTheSamePixels) {
-  for (float lensRadius : {0.0f, 0.15f}) {
-    const Camera camera(skewedSettings(lensRadius));
+  for (float lensRadius : {0.0f, 0.15f, -1.0f /* orthographic */}) {
+    const Camera camera(lensRadius < 0.0f ? orthographicSettings() : skewedSettings(lensRadius));
     // The emitter: tilted, about 4 units in front, covering part of the view.
     const Vec3 centre = camera.position() + camera.forward() * 4.0f;
     const Mat4& m = camera.settings().cameraToWorld;
     const Vec3 right = glm::normalize(Vec3(m[0])), up = glm::normalize(Vec3(m[1]));
     SquareEmitter emitter;
-    emitter.edgeU = right * 5.0f + camera.forward() * 0.8f;
-    emitter.edgeV = up * 3.5f - camera.forward() * 0.3f;
+    // The orthographic film is 3.84 x 2.4 units wherever the emitter is: a smaller emitter.
+    const float size = camera.isOrthographic() ? 0.55f : 1.0f;
+    emitter.edgeU = (right * 5.0f + camera.forward() * 0.8f) * size;
+    emitter.edgeV = (up * 3.5f - camera.forward() * 0.3f) * size;
     emitter.corner = centre - 0.45f * emitter.edgeU - 0.4f * emitter.edgeV;  // reaches a corner of the film
     emitter.n = glm::normalize(glm::cross(emitter.edgeU, emitter.edgeV));
     if (dot3(emitter.n, camera.forward()) > 0) emitter.n = -emitter.n;

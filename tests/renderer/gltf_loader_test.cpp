@@ -813,7 +813,7 @@ TEST_F(GltfMutated, SpotLightAndCamerasOnRotatedNodes) {
         {"spot", {{"innerConeAngle", 0.2}, {"outerConeAngle", 0.4}}}}});
   doc["cameras"] = json::array({{{"type", "perspective"}, {"perspective", {{"yfov", 0.6}, {"znear", 0.1}, {"aspectRatio", 1.5}}}},
                                 {{"type", "orthographic"},
-                                 {"orthographic", {{"xmag", 1}, {"ymag", 1}, {"znear", 0.1}, {"zfar", 10}}}}});
+                                 {"orthographic", {{"xmag", 2}, {"ymag", 0.5}, {"znear", 0.1}, {"zfar", 10}}}}});
   std::vector<std::string> errors;
   auto scene = loadGltf(write("spot.gltf", doc.dump()), errors);
   ASSERT_TRUE(scene) << errors[0];
@@ -826,12 +826,20 @@ TEST_F(GltfMutated, SpotLightAndCamerasOnRotatedNodes) {
   EXPECT_NEAR(glm::dot(l.direction, Vec3(0, -1, 0)), 1.0f, 1e-6f);
   EXPECT_FLOAT_EQ(l.innerConeRadians, 0.2f);
   EXPECT_FLOAT_EQ(l.outerConeRadians, 0.4f);
-  ASSERT_EQ(scene->cameras.size(), 1u);  // the orthographic one is skipped
-  EXPECT_TRUE(anyContains(scene->warnings, "orthographic"));
+  ASSERT_EQ(scene->cameras.size(), 2u);
   const CameraDesc& c = scene->cameras[0];
   EXPECT_NEAR(glm::dot(Vec3(c.cameraToWorld * Vec4(0, 0, -1, 0)), Vec3(0, -1, 0)), 1.0f, 1e-6f);
   EXPECT_FLOAT_EQ(c.yFovRadians, 0.6f);
   EXPECT_FLOAT_EQ(c.aspect, 1.5f);
+  EXPECT_EQ(c.orthoHalfHeight, 0.0f);
+  const CameraDesc& ortho = scene->cameras[1];
+  EXPECT_EQ(ortho.orthoHalfHeight, 0.5f);
+  EXPECT_EQ(ortho.aspect, 4.0f);  // xmag / ymag
+  doc["cameras"][1]["orthographic"]["ymag"] = 0;
+  scene = loadGltf(write("ortho0.gltf", doc.dump()), errors);
+  ASSERT_TRUE(scene) << errors[0];
+  EXPECT_EQ(scene->cameras.size(), 1u);
+  EXPECT_TRUE(anyContains(scene->warnings, "ymag"));
 }
 
 TEST_F(GltfMutated, EveryByteTruncationOfAGlbFailsCleanly) {

@@ -308,7 +308,9 @@ TEST(MaterialMemo, GltfVertexColoursAndSecondUvSetReachShading) {
                                             in.emission.z};
     ASSERT_TRUE(evaluateEntry(direct.entry, args, kGltfArgumentWords, p, lambda, &fresh, eFresh).ok);
     EXPECT_TRUE(sameLobeParameters(viaSystem, fresh)) << "round " << round;
-    if (round > 0) EXPECT_FALSE(sameLobeParameters(previous, fresh)) << "round " << round;
+    if (round > 0) {
+      EXPECT_FALSE(sameLobeParameters(previous, fresh)) << "round " << round;
+    }
     previous.copyLobesFrom(fresh);
   }
 }

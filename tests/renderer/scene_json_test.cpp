@@ -168,6 +168,11 @@ TEST(SceneJson, WrongTypesAndRanges) {
   EXPECT_NE(firstError(R"({"camera": {"from": [0, 0, 0], "to": [0, 0, 0]}})").find("same point"), std::string::npos);
   EXPECT_NE(firstError(R"({"camera": {"from": [0, 0, 0], "to": [0, 1, 0]}})").find("parallel"), std::string::npos);
   EXPECT_NE(firstError(R"({"camera": {"lens_radius": 0.1}})").find("thinlens"), std::string::npos);
+  EXPECT_NE(firstError(R"({"camera": {"type": "orthographic"}})").find("needs \"ymag\""), std::string::npos);
+  EXPECT_NE(firstError(R"({"camera": {"type": "orthographic", "ymag": 1, "fov_deg": 30}})").find("no field of view"),
+            std::string::npos);
+  EXPECT_NE(firstError(R"({"camera": {"ymag": 1}})").find("ymag needs"), std::string::npos);
+  EXPECT_NE(firstError(R"({"camera": {"type": "orthographic", "ymag": 0}})").find("ymag"), std::string::npos);
   EXPECT_NE(firstError(R"({"render": {"camera": 2}})").find("camera 2 does not exist"), std::string::npos);
   EXPECT_NE(firstError(R"([1, 2])").find("expected an object, got an array"), std::string::npos);
 }
@@ -228,6 +233,16 @@ TEST(SceneJson, BindingThatMatchesNothingIsAWarning) {
   EXPECT_NE(firstError(R"({"materials": [{"match": {"material": "A", "mesh": "B"}, "file": "walls.tex", "entry": "w"}]})")
                 .find("exactly one"),
             std::string::npos);
+}
+
+TEST(SceneJson, OrthographicCamera) {
+  std::vector<std::string> errors;
+  auto scene = parse(R"({"camera": {"type": "orthographic", "from": [0, 0, 5], "ymag": 2.5, "aspect": 2}})", errors);
+  ASSERT_TRUE(scene) << errors[0];
+  ASSERT_EQ(scene->cameras.size(), 1u);
+  EXPECT_EQ(scene->cameras[0].orthoHalfHeight, 2.5f);
+  EXPECT_EQ(scene->cameras[0].aspect, 2.0f);
+  EXPECT_EQ(scene->cameras[0].lensRadius, 0.0f);
 }
 
 TEST(SceneJson, SceneCamerasComeBeforeGltfCameras) {
