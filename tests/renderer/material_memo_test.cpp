@@ -68,6 +68,16 @@ ShadingPoint pointAt(float u, float v, float x) {
 
 bool sameBits(const Spectrum& a, const Spectrum& b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
+// A 2x1 sRGB image: red on the left half, blue on the right.
+ImageData redThenBlue() {
+  ImageData image;
+  image.width = 2;
+  image.height = 1;
+  image.channels = 3;
+  image.bytes = {230, 40, 20, 20, 60, 220};
+  return image;
+}
+
 bool sameLobes(const Bsdf& a, const Bsdf& b) {
   if (a.lobeCount() != b.lobeCount() || a.hasCoat() != b.hasCoat()) return false;
   for (int i = 0; i < a.lobeCount(); ++i)
@@ -190,12 +200,7 @@ TEST(MaterialMemo, SystemsDoNotShareEntries) {
 // across points (its two texels give different lobes).
 TEST(MaterialMemo, GltfMaterialsWithoutTexturesReplayAndTexturedOnesDoNot) {
   SceneDescription scene;
-  ImageData image;
-  image.width = 2;
-  image.height = 1;
-  image.channels = 3;
-  image.bytes = {230, 40, 20, 20, 60, 220};  // red, then blue
-  scene.images.push_back(image);
+  scene.images.push_back(redThenBlue());
   GltfMaterial plastic, metal, glass, textured, brokenTexture;
   plastic.baseColorFactor = Vec4(0.8f, 0.3f, 0.2f, 1.0f);
   plastic.metallicFactor = 0.0f;
@@ -255,12 +260,7 @@ TEST(MaterialMemo, GltfMaterialsWithoutTexturesReplayAndTexturedOnesDoNot) {
 // points of different colours, and those differ from each other.
 TEST(MaterialMemo, GltfVertexColoursAndSecondUvSetReachShading) {
   SceneDescription scene;
-  ImageData image;
-  image.width = 2;
-  image.height = 1;
-  image.channels = 3;
-  image.bytes = {230, 40, 20, 20, 60, 220};  // red, then blue
-  scene.images.push_back(image);
+  scene.images.push_back(redThenBlue());
   GltfMaterial plastic;
   plastic.baseColorFactor = Vec4(0.8f, 0.6f, 0.4f, 1.0f);
   plastic.metallicFactor = 0.0f;

@@ -34,6 +34,25 @@ MeshPrimitive randomSoup(uint64_t seed, int triangles) {
 
 bool sameBits(const Vec3& a, const Vec3& b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
+// Ray i of a set along +x from x = -10 toward the clusters of buildBakedAndInstanced: odd rays
+// through the one at z = +4, even ones through z = -4, spread over z by `zSpread` and y by `ySpread`.
+Ray rayAlongX(uint64_t seed, uint64_t i, float zSpread, float ySpread) {
+  Ray ray;
+  const float z = (i % 2 ? 4.0f : -4.0f) + zSpread * (sampling::randomUniform(seed, i, 0) - 0.5f);
+  ray.origin = Vec3(-10.0f, ySpread * (sampling::randomUniform(seed, i, 1) - 0.5f), z);
+  ray.direction = Vec3(1.0f, 0.0f, 0.0f);
+  ray.tMax = 15.0f;  // short of the far instance
+  return ray;
+}
+
+// Barycentrics (b1, b2) of a point on the triangle p[3], from the point (least squares).
+Vec2 barycentricsOf(const Vec3 p[3], const Vec3& point) {
+  const Vec3 e1 = p[1] - p[0], e2 = p[2] - p[0], d = point - p[0];
+  const float a00 = dot3(e1, e1), a01 = dot3(e1, e2), a11 = dot3(e2, e2);
+  const float det = a00 * a11 - a01 * a01;
+  return Vec2((a11 * dot3(e1, d) - a01 * dot3(e2, d)) / det, (a00 * dot3(e2, d) - a01 * dot3(e1, d)) / det);
+}
+
 // Instances of a scene's primitives 0 and 1 and the geometry built from them: primitive 0 used
 // once (baked into the top-level BVH, with the per-triangle table) with linear part `baked`
 // moved to z = -4; primitive 1 used twice (an Embree instance, hit data computed per hit) with
@@ -64,11 +83,7 @@ TEST(SceneGeometry, HitNormalAndUvDerivativesAreTheTrianglesBitForBit) {
   int hits[2] = {0, 0};
   for (uint64_t i = 0; i < 4000; ++i) {
     // Rays along x through both clusters' slabs (z in [-5, -3] and [3, 5]).
-    Ray ray;
-    const float z = (i % 2 ? 4.0f : -4.0f) + 2.0f * sampling::randomUniform(9, i, 0) - 1.0f;
-    ray.origin = Vec3(-10.0f, 2.0f * sampling::randomUniform(9, i, 1) - 1.0f, z);
-    ray.direction = Vec3(1.0f, 0.0f, 0.0f);
-    ray.tMax = 15.0f;  // short of the far instance
+    const Ray ray = rayAlongX(9, i, 2.0f, 2.0f);
     SurfaceHit hit;
     if (!geometry->intersect(ray, hit)) continue;
     ASSERT_TRUE(hit.instance == 0 || hit.instance == 1);
@@ -119,11 +134,7 @@ TEST(SceneGeometry, ShadingNormalsAreFlatOrInterpolatedPerTriangle) {
 
   int flatHits = 0, smoothHits = 0;
   for (uint64_t i = 0; i < 4000; ++i) {
-    Ray ray;
-    const float z = (i % 2 ? 4.0f : -4.0f) + 0.5f * sampling::randomUniform(11, i, 0) - 0.25f;
-    ray.origin = Vec3(-10.0f, 6.0f * sampling::randomUniform(11, i, 1) - 3.0f, z);
-    ray.direction = Vec3(1.0f, 0.0f, 0.0f);
-    ray.tMax = 15.0f;
+    const Ray ray = rayAlongX(11, i, 0.5f, 6.0f);
     SurfaceHit hit;
     if (!geometry->intersect(ray, hit)) continue;
     const MeshPrimitive& prim = scene.primitives[size_t(hit.primitive)];
@@ -144,10 +155,8 @@ TEST(SceneGeometry, ShadingNormalsAreFlatOrInterpolatedPerTriangle) {
       Vec2 uv[3];
       Vec3 ng;
       geometry->triangleWorld(hit.instance, hit.triangle, p, uv, ng);
-      const Vec3 e1 = p[1] - p[0], e2 = p[2] - p[0], d = hit.p - p[0];
-      const float a00 = dot3(e1, e1), a01 = dot3(e1, e2), a11 = dot3(e2, e2);
-      const float det = a00 * a11 - a01 * a01;
-      const float b1 = (a11 * dot3(e1, d) - a01 * dot3(e2, d)) / det, b2 = (a00 * dot3(e2, d) - a01 * dot3(e1, d)) / det;
+      const Vec2 b = barycentricsOf(p, hit.p);
+      const float b1 = b.x, b2 = b.y;
       const Vec3 n = prim.normals[vi[0]] * (1.0f - b1 - b2) + prim.normals[vi[1]] * b1 + prim.normals[vi[2]] * b2;
       EXPECT_LT(glm::length(hit.ns - glm::normalize(normalToWorld * n)), 2e-3f) << "triangle " << hit.triangle;
     }
@@ -239,11 +248,7 @@ TEST(SceneGeometry, SecondUvSetAndVertexColoursAreInterpolatedAtTheHit) {
   ASSERT_TRUE(geometry);
   int hits[2] = {0, 0};
   for (uint64_t i = 0; i < 2000; ++i) {
-    Ray ray;
-    const float z = (i % 2 ? 4.0f : -4.0f) + 2.0f * sampling::randomUniform(33, i, 0) - 1.0f;
-    ray.origin = Vec3(-10.0f, 2.0f * sampling::randomUniform(33, i, 1) - 1.0f, z);
-    ray.direction = Vec3(1.0f, 0.0f, 0.0f);
-    ray.tMax = 15.0f;
+    const Ray ray = rayAlongX(33, i, 2.0f, 2.0f);
     SurfaceHit hit;
     if (!geometry->intersect(ray, hit)) continue;
     ++hits[hit.instance];
@@ -254,11 +259,8 @@ TEST(SceneGeometry, SecondUvSetAndVertexColoursAreInterpolatedAtTheHit) {
     Vec3 ng;
     geometry->triangleWorld(hit.instance, hit.triangle, p, uv, ng);
     geometry->triangleWorld(hit.instance, hit.triangle, p, uvSet1, ng, 1);
-    const Vec3 e1 = p[1] - p[0], e2 = p[2] - p[0], d = hit.p - p[0];
-    const float a00 = dot3(e1, e1), a01 = dot3(e1, e2), a11 = dot3(e2, e2);
-    const float det = a00 * a11 - a01 * a01;
-    const float b1 = (a11 * dot3(e1, d) - a01 * dot3(e2, d)) / det, b2 = (a00 * dot3(e2, d) - a01 * dot3(e1, d)) / det;
-    const float b0 = 1.0f - b1 - b2;
+    const Vec2 b = barycentricsOf(p, hit.p);
+    const float b1 = b.x, b2 = b.y, b0 = 1.0f - b1 - b2;
     if (prim.colors.empty()) {
       EXPECT_EQ(hit.color, Vec4(1.0f));
       EXPECT_EQ(hit.uv1, hit.uv);
