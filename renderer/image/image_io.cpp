@@ -77,6 +77,25 @@ std::string readPng(const std::string& path, RgbImage& out) {
   return "";
 }
 
+// Radiance RGBE (.hdr), as HDR environment maps are commonly shipped: linear floats.
+std::string readRadianceHdr(const std::string& path, RgbImage& out) {
+  if (!stbi_is_hdr(path.c_str())) {
+    const char* reason = stbi_failure_reason();
+    return path + ": not a Radiance HDR file" + (reason ? std::string(" (") + reason + ")" : std::string());
+  }
+  int width = 0, height = 0, channelsInFile = 0;
+  float* data = stbi_loadf(path.c_str(), &width, &height, &channelsInFile, 3);
+  if (data == nullptr) {
+    const char* reason = stbi_failure_reason();
+    return path + ": cannot read Radiance HDR: " + (reason ? reason : "unknown error");
+  }
+  out.width = width;
+  out.height = height;
+  out.rgb.assign(data, data + size_t(width) * height * 3);
+  stbi_image_free(data);
+  return "";
+}
+
 }  // namespace
 
 float linearToSrgb(float linear) {
@@ -207,6 +226,7 @@ std::string writeRgbImage(const std::string& path, const RgbImage& image,
 std::string readRgbImage(const std::string& path, RgbImage& out) {
   const std::string ext = lowerExtension(path);
   if (ext == "png") return readPng(path, out);
+  if (ext == "hdr") return readRadianceHdr(path, out);
   ExrImage exr;
   if (std::string e = readExr(path, exr); !e.empty()) return e;
   const ExrChannel* r = exr.find("R");

@@ -1,4 +1,5 @@
-// Image files: OpenEXR (through the OpenEXR library) and PNG (through stb) for quick looks.
+// Image files: OpenEXR (through the OpenEXR library), Radiance .hdr for reading environment
+// maps, and PNG (through stb) for quick looks.
 // Pixels are linear sRGB floats, row-major, top row first. Errors are returned as messages
 // that name the file and the problem; an empty string means success. Nothing here throws.
 #pragma once
@@ -19,8 +20,8 @@ struct RgbImage {
 std::string writeRgbImage(const std::string& path, const RgbImage& image,
                           const std::map<std::string, std::string>& metadata = {});
 
-// Reads an RGB(A) OpenEXR (missing G/B channels repeat R, as for a luminance file), or a PNG
-// (decoded from sRGB to linear).
+// Reads an RGB(A) OpenEXR (missing G/B channels repeat R, as for a luminance file), a Radiance
+// RGBE .hdr (linear, through stb), or a PNG (decoded from sRGB to linear).
 std::string readRgbImage(const std::string& path, RgbImage& out);
 
 // ---- Multi-channel OpenEXR (the film's developed output, with extra layers) --------------

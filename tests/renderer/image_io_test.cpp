@@ -6,7 +6,10 @@
 
 #include <cmath>
 #include <cstdio>
+#include <algorithm>
 #include <filesystem>
+
+#include <stb/stb_image_write.h>
 
 namespace tex {
 namespace {
@@ -71,6 +74,39 @@ TEST(ImageIo, PngRoundTripWithinEightBits) {
     EXPECT_NEAR(linearToSrgb(back.rgb[i]), linearToSrgb(expected), 0.5f / 255.0f + 1e-5f);
   }
   std::filesystem::remove(path);
+}
+
+// Radiance .hdr (environment maps are often shipped so): values above 1 survive, within the
+// RGBE format's 8-bit mantissa; a PNG named .hdr and a truncated file are refused by name.
+TEST(ImageIo, RadianceHdrReadsLinearValuesAboveOne) {
+  const std::string path = tempPath("sky.hdr");
+  RgbImage image = gradient(8, 4);
+  for (float& v : image.rgb) v = v * 40.0f + 0.01f;
+  ASSERT_NE(stbi_write_hdr(path.c_str(), image.width, image.height, 3, image.rgb.data()), 0);
+  RgbImage back;
+  ASSERT_EQ(readRgbImage(path, back), "");
+  ASSERT_EQ(back.width, 8);
+  ASSERT_EQ(back.height, 4);
+  ASSERT_EQ(back.rgb.size(), image.rgb.size());
+  float largest = 0.0f;
+  for (size_t i = 0; i < image.rgb.size(); ++i) {
+    const float pixelMax = std::max({image.rgb[i / 3 * 3], image.rgb[i / 3 * 3 + 1], image.rgb[i / 3 * 3 + 2]});
+    EXPECT_NEAR(back.rgb[i], image.rgb[i], pixelMax / 128.0f) << i;  // RGBE: a shared exponent, 8-bit mantissas
+    largest = std::max(largest, back.rgb[i]);
+  }
+  EXPECT_GT(largest, 20.0f);
+  const std::string png = tempPath("fake.hdr");
+  ASSERT_EQ(writeRgbImage(tempPath("real.png"), gradient(2, 2)), "");
+  std::filesystem::copy_file(tempPath("real.png"), png, std::filesystem::copy_options::overwrite_existing);
+  const std::string error = readRgbImage(png, back);
+  EXPECT_NE(error.find(png), std::string::npos) << error;
+  EXPECT_NE(error.find("not a Radiance HDR file"), std::string::npos) << error;
+  std::filesystem::resize_file(path, 40);
+  const std::string truncated = readRgbImage(path, back);
+  EXPECT_NE(truncated.find(path), std::string::npos) << truncated;
+  std::filesystem::remove(path);
+  std::filesystem::remove(png);
+  std::filesystem::remove(tempPath("real.png"));
 }
 
 TEST(ImageIo, ErrorsNameTheFile) {
