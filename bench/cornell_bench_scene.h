@@ -56,7 +56,7 @@ struct CornellBenchScene {
       const std::optional<LightLiSample> ls = light.sampleLi(hit.p, Vec2(draw(i, 5), draw(i, 6)), lambda);
       if (!ls || !(ls->pdfW > 0.0f)) continue;
       Ray s;
-      s.origin = offsetRayOrigin(hit.p, hit.ng, ls->wi);
+      s.origin = offsetRayOrigin(hit.p, hit.ng, ls->wi, hit.pError);
       s.direction = ls->wi;
       s.tMax = ls->distance * 0.999f;
       shadowRays.push_back(s);

@@ -136,6 +136,7 @@ void shadePacketScalar(const Scene& s, Paths& P, const uint32_t* lane, int lanes
         const Tri& tri = s.tris[rh.hit.primID[i]];
         const Vec3 d(P.dx[k], P.dy[k], P.dz[k]);
         const Vec3 p = tri.p0 + tri.e1 * rh.hit.u[i] + tri.e2 * rh.hit.v[i];
+        const Vec3 pError = trianglePointError(tri.p0, tri.p0 + tri.e1, tri.p0 + tri.e2);
         const float cosIn = dot3(d, tri.n);
         const Vec3 n = cosIn < 0.0f ? tri.n : -tri.n;  // facing the incoming ray
         const float* a[4] = {&P.albedo[tri.material][0][k], &P.albedo[tri.material][1][k],
@@ -168,7 +169,7 @@ void shadePacketScalar(const Scene& s, Paths& P, const uint32_t* lane, int lanes
           const float w = pdfLight * pdfLight / (pdfLight * pdfLight + pdfBsdf * pdfBsdf);
           const float scale = cosS * kInvPi * w / pdfLight;
           for (int j = 0; j < 4; ++j) pending[i][j] = P.beta[j][k] * *a[j] * P.le[j][k] * scale;
-          const Vec3 o = offsetRayOrigin(p, n, wi);
+          const Vec3 o = offsetRayOrigin(p, n, wi, pError);
           sr.org_x[i] = o.x, sr.org_y[i] = o.y, sr.org_z[i] = o.z;
           sr.dir_x[i] = wi.x, sr.dir_y[i] = wi.y, sr.dir_z[i] = wi.z;
           sr.tfar[i] = dist * 0.999f;
@@ -189,7 +190,7 @@ void shadePacketScalar(const Scene& s, Paths& P, const uint32_t* lane, int lanes
           if (rnd(path, 8 + 7 * uint32_t(depth)) >= survive) continue;
           for (int j = 0; j < 4; ++j) P.beta[j][k] /= survive;
         }
-        const Vec3 o = offsetRayOrigin(p, n, wo);
+        const Vec3 o = offsetRayOrigin(p, n, wo, pError);
         P.ox[k] = o.x, P.oy[k] = o.y, P.oz[k] = o.z;
         P.dx[k] = wo.x, P.dy[k] = wo.y, P.dz[k] = wo.z;
         P.depth[k] = depth + 1;

@@ -64,22 +64,51 @@ inline float cosTheta(const Vec3& w) { return w.z; }
 inline float absCosTheta(const Vec3& w) { return std::fabs(w.z); }
 inline bool sameHemisphere(const Vec3& a, const Vec3& b) { return a.z * b.z > 0.0f; }
 
-// Moves a ray origin off a surface along the geometric normal, far enough that the new ray
-// does not hit the surface it leaves, in a way that scales with the magnitude of the
-// coordinates (a relative epsilon: float rounding of a hit point grows with |p|, so a fixed
-// epsilon fails on both tiny and huge scenes). `ng` need not face `direction`.
-inline Vec3 offsetRayOrigin(const Vec3& p, const Vec3& ng, const Vec3& direction) {
-  // std::fmax(std::fmax(std::fmax(|x|, |y|), |z|), 1e-3) is the largest of the values that are
-  // not NaN (fmax drops a NaN operand), 1e-3 included: a > m ? a : m keeps m for a NaN a and,
-  // with m starting from 1e-3, is that maximum, in maxss instructions (fmaxf was a libm call).
-  float magnitude = 1e-3f;
-  const float ax = std::fabs(p.x), ay = std::fabs(p.y), az = std::fabs(p.z);
-  magnitude = ax > magnitude ? ax : magnitude;
-  magnitude = ay > magnitude ? ay : magnitude;
-  magnitude = az > magnitude ? az : magnitude;
-  const float eps = 1e-4f * magnitude + 1e-7f;
-  const Vec3 offset = ng * (dot3(ng, direction) >= 0.0f ? eps : -eps);
-  return p + offset;
+// The largest |coordinate| of v, NaN-free: a > m ? a : m keeps m for a NaN a, in maxss
+// instructions (fmaxf was a libm call).
+inline float maxAbsComponent(const Vec3& v, float atLeast = 0.0f) {
+  float m = atLeast;
+  const float ax = std::fabs(v.x), ay = std::fabs(v.y), az = std::fabs(v.z);
+  m = ax > m ? ax : m;
+  m = ay > m ? ay : m;
+  m = az > m ? az : m;
+  return m;
+}
+
+// How far a point interpolated on a triangle (b0 p0 + b1 p1 + b2 p2 in float, b >= 0) may be
+// from the exact surface, per coordinate: pbrt-v4's gamma(7) sum |b_i p_i| <= gamma(7) max|p_i|
+// (gamma(7) is about 7 float ulps, u = 2^-24), with room for an instance's transform (its world
+// vertices are rounded, and Embree moves the ray into object space): kTrianglePointRelativeError
+// of the largest |coordinate| among the vertices, per axis. It depends on the vertices, not on
+// the point: a point near the origin on a huge triangle is as uncertain as its vertices are large.
+constexpr float kTrianglePointRelativeError = 12.0f * 0x1p-24f;
+// max(|a|, |b|, |c|) per coordinate (NaN-free by the same ternary as maxAbsComponent: maxss,
+// where std::fmax is a libm call at -march=x86-64).
+inline float maxAbs3(float a, float b, float c) {
+  float m = std::fabs(a);
+  const float fb = std::fabs(b), fc = std::fabs(c);
+  m = fb > m ? fb : m;
+  m = fc > m ? fc : m;
+  return m;
+}
+// max(|a|, |b|) per coordinate (a already non-negative: a running maximum).
+inline Vec3 absMaxPerAxis(const Vec3& a, const Vec3& b) {
+  return Vec3(maxAbs3(a.x, b.x, 0.0f), maxAbs3(a.y, b.y, 0.0f), maxAbs3(a.z, b.z, 0.0f));
+}
+inline Vec3 trianglePointError(const Vec3& p0, const Vec3& p1, const Vec3& p2) {
+  return kTrianglePointRelativeError *
+         Vec3(maxAbs3(p0.x, p1.x, p2.x), maxAbs3(p0.y, p1.y, p2.y), maxAbs3(p0.z, p1.z, p2.z));
+}
+
+// Moves a ray origin off a surface along the geometric normal, past the point's error bound
+// `pointError` (trianglePointError; pbrt-v4's OffsetRayOrigin), so that the new ray cannot hit
+// the surface it leaves. `ng` (unit) need not face `direction`. The offset scales with the
+// coordinates' float precision, not with |p|: scenes far from the origin keep their contacts
+// and thin gaps (a relative epsilon of 1e-4 |p| moved origins by 2 units at 20000), and points
+// near the origin of large triangles get the offset their vertices' magnitude needs.
+inline Vec3 offsetRayOrigin(const Vec3& p, const Vec3& ng, const Vec3& direction, const Vec3& pointError) {
+  const float d = std::fabs(ng.x) * pointError.x + std::fabs(ng.y) * pointError.y + std::fabs(ng.z) * pointError.z + 1e-30f;
+  return p + ng * (dot3(ng, direction) >= 0.0f ? d : -d);
 }
 
 // Reflection of w about n (both unit; result points to the same side of n as... the mirror of w).

@@ -106,6 +106,11 @@ struct SceneGeometry::Impl {
     // square root and four divisions on it); 36 bytes a triangle.
     std::vector<TriangleFrame> triangleFrames;
     bool valid = false;                // false: skipped (no triangles, degenerate transform)
+    // Every hit point's float error bound (SurfaceHit::pError): trianglePointError of the
+    // instance's largest world coordinates, per axis (at least each triangle's own bound, and
+    // no work per hit); instanced geometry takes the largest axis on every axis, for the
+    // rounding of its transform and of Embree's ray in object space.
+    Vec3 pointError{0.0f};
   };
   const SceneDescription* scene = nullptr;
   std::string error;
@@ -228,6 +233,7 @@ std::unique_ptr<SceneGeometry> SceneGeometry::build(const SceneDescription& scen
       for (size_t v = 0; v < prim.positions.size(); ++v) {
         inst.worldPositions[v] = transformPoint(desc.objectToWorld, prim.positions[v]);
         geometry->bounds_.extend(inst.worldPositions[v]);
+        inst.pointError = absMaxPerAxis(inst.pointError, inst.worldPositions[v]);
       }
       inst.triangleFrames.resize(prim.indices.size() / 3);
       for (size_t t = 0; t < inst.triangleFrames.size(); ++t) {
@@ -276,9 +282,15 @@ std::unique_ptr<SceneGeometry> SceneGeometry::build(const SceneDescription& scen
       rtcCommitGeometry(g);
       geomId = rtcAttachGeometry(im.top, g);
       rtcReleaseGeometry(g);
-      for (const Vec3& p : prim.positions) geometry->bounds_.extend(transformPoint(desc.objectToWorld, p));
+      for (const Vec3& p : prim.positions) {
+        const Vec3 world = transformPoint(desc.objectToWorld, p);
+        geometry->bounds_.extend(world);
+        inst.pointError = absMaxPerAxis(inst.pointError, world);
+      }
+      inst.pointError = Vec3(maxAbsComponent(inst.pointError));
     }
     if (geomId == RTC_INVALID_GEOMETRY_ID) break;
+    inst.pointError = trianglePointError(inst.pointError, inst.pointError, inst.pointError);
     if (im.instanceOfTopGeometry.size() <= geomId) im.instanceOfTopGeometry.resize(geomId + 1, -1);
     im.instanceOfTopGeometry[geomId] = instanceIndex;
     geometry->triangleCount_ += prim.indices.size() / 3;
@@ -356,6 +368,7 @@ void SceneGeometry::fillHit(int instance, uint32_t triangle, float b1, float b2,
   hit.triangle = triangle;
   hit.material = impl_->scene->primitives[size_t(inst.primitive)].material;
   hit.p = p[0] * b0 + p[1] * b1 + p[2] * b2;
+  hit.pError = inst.pointError;
   Vec2 uv[3];
   if (!prim.uv0.empty())
     for (int k = 0; k < 3; ++k) uv[k] = prim.uv0[vi[k]];

@@ -27,6 +27,7 @@ struct SurfaceHit {
   SurfaceHit() {}
   float t = 0;
   Vec3 p{0.0f};        // position (recomputed from barycentrics, not origin + t d)
+  Vec3 pError{0.0f};   // bound on p's float error per coordinate (trianglePointError of the instance's extent), for ray offsets
   Vec3 ng{0.0f};       // unit geometric normal: the triangle's front side (counter-clockwise winding)
   Vec3 ns{0.0f};       // unit shading normal (interpolated vertex normals, or ng)
   Vec2 uv{0.0f};       // TEXCOORD_0 (0 when absent)

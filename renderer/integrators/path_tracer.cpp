@@ -48,26 +48,34 @@ void addPixelFootprint(ShadingPoint& sp, const Ray& dx, const Ray& dy) {
 
 // Writes the continuation ray into the path's own Ray: a returned Ray was assembled on the
 // stack in 8- and 4-byte pieces and copied with 16-byte loads, which stalled on store forwarding.
-void spawnRayInto(Ray& r, const Vec3& p, const Vec3& ng, const Vec3& direction) {
-  r.origin = offsetRayOrigin(p, ng, direction);
+void spawnRayInto(Ray& r, const Vec3& p, const Vec3& ng, const Vec3& pError, const Vec3& direction) {
+  r.origin = offsetRayOrigin(p, ng, direction, pError);
   r.direction = direction;
   r.tMax = kInfinity;
 }
 
 // A shadow ray from a surface point to a point on a light (offset off the light as well), or to
-// infinity for lights at infinity.
-Ray shadowRay(const Vec3& p, const Vec3& ng, const LightLiSample& ls) {
+// infinity for lights at infinity. Toward a point it aims from the offset origin at the offset
+// target (pbrt-v4's SpawnRayTo: direction target - origin, unnormalised, tMax 1 - epsilon in
+// its parameter): along wi from the offset origin the segment ran parallel to p -> pLight,
+// crossed an area light's own plane short of its end at grazing angles and was shadowed by the
+// light itself.
+Ray shadowRay(const Vec3& p, const Vec3& ng, const Vec3& pError, const LightLiSample& ls) {
   Ray r;
-  r.origin = offsetRayOrigin(p, ng, ls.wi);
+  r.origin = offsetRayOrigin(p, ng, ls.wi, pError);
   r.direction = ls.wi;
   if (!std::isfinite(ls.distance)) {
     r.tMax = kInfinity;
     return r;
   }
   Vec3 target = ls.pLight;
-  if (ls.nLight != Vec3(0.0f)) target = offsetRayOrigin(ls.pLight, ls.nLight, -ls.wi);
-  const Vec3 d = target - r.origin;
-  r.tMax = glm::length(d) * (1.0f - 1e-4f);
+  if (ls.nLight != Vec3(0.0f)) target = offsetRayOrigin(ls.pLight, ls.nLight, -ls.wi, Vec3(ls.pLightError));
+  r.direction = target - r.origin;
+  r.tMax = 1.0f - 1e-4f;
+  if (!(lengthSquared(r.direction) > 0.0f)) {  // the light point is the origin: nothing in between
+    r.direction = ls.wi;
+    r.tMax = 0.0f;
+  }
   return r;
 }
 
@@ -235,7 +243,7 @@ Spectrum PathTracer::radiance(const sampling::IndexSampler& samples, const Ray& 
           const Spectrum f = bsdf.evalWithPdf(wo, ls->wi, TransportMode::Radiance, bsdfPdfW) * absDot(ls->wi, hit.ns);
           if (!f.isBlack()) {
             ++counters.rays;
-            if (!geometry.occluded(shadowRay(hit.p, hit.ng, *ls))) {
+            if (!geometry.occluded(shadowRay(hit.p, hit.ng, hit.pError, *ls))) {
               const Spectrum Li = ls->radianceDeferred ? light.deferredRadiance(*ls, lambda) : ls->L;
               if (!Li.isBlack()) {
                 const float pdfLight = choice->second * ls->pdfW;
@@ -273,7 +281,7 @@ Spectrum PathTracer::radiance(const sampling::IndexSampler& samples, const Ray& 
     }
     specularBounce = bs->specular;
     prevP = hit.p;
-    spawnRayInto(ray, hit.p, hit.ng, bs->wi);
+    spawnRayInto(ray, hit.p, hit.ng, hit.pError, bs->wi);
 
     if (beta.hasNaNOrInf()) {
       ++counters.nonFiniteSamples;

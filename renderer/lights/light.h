@@ -29,6 +29,7 @@ struct LightLiSample {
   Vec3 wi{0.0f};       // toward the light
   Vec3 pLight{0.0f};   // point on the light (for shadow rays); far away for directional/environment
   Vec3 nLight{0.0f}; // light normal at pLight (0 for point-like lights)
+  float pLightError = 0;  // bound on pLight's float error, every axis (area lights: trianglePointError's largest), for the shadow ray
   float distance = 0;  // shadow ray length (infinity for directional/environment)
   float pdfW = 0;      // solid angle (delta lights: 1)
   bool delta = false;  // a Dirac light: no MIS with BSDF sampling

@@ -12,6 +12,7 @@ TriangleLight::TriangleLight(const TriangleLightDesc& desc, const EmissionSource
   const float len = std::sqrt(lengthSquared(c));
   area_ = 0.5f * len;
   pdfA_ = area_ > 0.0f ? 1.0f / area_ : 0.0f;
+  pointError_ = maxAbsComponent(trianglePointError(desc.p0, desc.p1, desc.p2));
   if (len > 0.0f) {
     n_ = c / len;
     if (dot3(n_, desc.normal) < 0.0f) n_ = -n_;
@@ -82,6 +83,7 @@ std::optional<LightLiSample> TriangleLight::sampleLiDeferred(const Vec3& refPoin
   s.uvLight = interpolate(desc_.uv0, desc_.uv1, desc_.uv2, b);
   s.wi = wi;
   s.pLight = pLight;
+  s.pLightError = pointError_;
   s.nLight = n_;
   s.distance = dist;
   s.pdfW = pdfW;

@@ -42,6 +42,7 @@ class TriangleLight final : public Light {
   Vec3 n_{0.0f};
   float area_ = 0;
   float pdfA_ = 0;  // 1 / area_, once rather than a division per light sample
+  float pointError_ = 0;  // the largest axis of trianglePointError of the vertices: every sampled point's bound
 };
 
 std::unique_ptr<Light> makeTriangleLight(const TriangleLightDesc& desc, const EmissionSource* emission);

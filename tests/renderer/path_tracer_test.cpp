@@ -12,6 +12,8 @@
 #include <filesystem>
 #include <fstream>
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include "renderer/color/wavelengths.h"
 #include "renderer/film/film_sink.h"
 #include "renderer/integrators/path_tracer.h"
@@ -119,6 +121,82 @@ TEST(PathTracer, PointLightInsideDiffuseSphereGivesRadianceOne) {
     EXPECT_NEAR(e.mean, 1.0, 4 * e.standardError + 0.003) << samplerName(sampler);
     EXPECT_EQ(e.nonFinite, 0u);
   }
+}
+
+// Far from the origin the cavity still gives Le / (1 - rho): ray origins move off a surface by
+// its points' float error, not by a fixed fraction of |p| (at 1e-4 |p| they were 1.5 units away
+// here, outside the unit sphere: 0.90 instead of 1). At 3e4 the sphere's float precision itself
+// (ulp 0.004) costs about 1 %.
+TEST(PathTracer, ClosedCavityFarFromTheOriginKeepsItsRadiance) {
+  const std::string file = writeTexModule(
+      "cavity_far", "export fn wall(h: Hit) -> Material = mix_material(diffuse(spectrum(1.0)), emission(spectrum(1.0)), 0.5)\n");
+  const Vec3 centre(1.0e4f, -5.0e3f, 1.5e4f);
+  // Flat facets: vertex normals computed at these coordinates are off by their float error,
+  // which the shading-normal leak guard would turn into a loss (as in the roulette test).
+  MeshPrimitive sphere = makeSphere(centre, 1.0f, 48, 24, true);
+  sphere.normals.clear();
+  const SceneDescription scene = oneObjectScene(std::move(sphere), file, "wall", centre);
+  const Estimate e = estimateRadiance(scene, 60, 4, 1 << 15);
+  EXPECT_NEAR(e.mean, 1.0, 4 * e.standardError + 1e-6);
+  EXPECT_EQ(e.nonFinite, 0u);
+}
+
+// A small lamp lighting a floor patch at a grazing angle (cosines about 0.13 at both ends),
+// the scene tilted and placed thousands of units from the origin: the direct light (depth 1)
+// is the lamp's irradiance integrated numerically, rho / pi x E. Shadow rays aim from their
+// offset origin at the offset point on the lamp; along wi from the offset origin they crossed
+// the lamp's own plane short of their end and the lamp shadowed itself (the patch came out
+// black).
+TEST(PathTracer, GrazingAreaLightFarFromTheOriginGivesTheAnalyticDirectLight) {
+  const std::string file = writeTexModule("grazing",
+                                          "export fn floor(h: Hit) -> Material = diffuse(spectrum(0.5))\n"
+                                          "export fn lamp(h: Hit) -> Material = emission(spectrum(2000.0))\n");
+  // Built in a local frame (floor z = 0 facing +z, lamp above it facing down, camera looking
+  // down at the floor), then moved rigidly: a tilt, so that no surface is axis-aligned, and an
+  // offset of thousands of units.
+  const Mat4 toWorld = glm::rotate(glm::translate(Mat4(1.0f), Vec3(3000.0f, 1000.0f, -2000.0f)), 0.5f,
+                                   glm::normalize(Vec3(1.0f, 1.0f, 0.3f)));
+  const auto world = [&](const Vec3& p) { return Vec3(toWorld * Vec4(p, 1.0f)); };
+  const auto worldVector = [&](const Vec3& v) { return Vec3(toWorld * Vec4(v, 0.0f)); };
+  constexpr float kLampDistance = 20.0f, kLampHeight = 2.6f, kLampSize = 0.3f, kEyeHeight = 1.0f, kFov = 0.9f;
+  SceneDescription scene;
+  MeshPrimitive floor = makeQuad(world(Vec3(-50.0f, -50.0f, 0.0f)), worldVector(Vec3(100.0f, 0.0f, 0.0f)),
+                                 worldVector(Vec3(0.0f, 100.0f, 0.0f)));
+  const Vec3 lampCorner(-kLampDistance, -0.5f * kLampSize, kLampHeight);
+  const Vec3 lampEdge1(0.0f, kLampSize, 0.0f), lampEdge2(kLampSize, 0.0f, 0.0f);  // facing -z, down
+  MeshPrimitive lamp = makeQuad(world(lampCorner), worldVector(lampEdge1), worldVector(lampEdge2));
+  floor.material = 0;
+  lamp.material = 1;
+  scene.primitives = {floor, lamp};
+  scene.instances = {MeshInstance{0, Mat4(1.0f), "floor"}, MeshInstance{1, Mat4(1.0f), "lamp"}};
+  scene.materials.resize(2);
+  scene.materials[0].name = "floor";
+  scene.materials[1].name = "lamp";
+  test::bindEntriesByMaterialName(scene, file, {"floor", "lamp"});
+  CameraDesc camera = test::cameraLookingDownZ(Vec3(0.0f, 0.0f, kEyeHeight), kFov);
+  camera.cameraToWorld = toWorld * camera.cameraToWorld;
+  scene.cameras.push_back(camera);
+
+  // The camera sees the square patch |x|, |y| <= h tan(fov / 2) of the floor, uniformly.
+  const float half = kEyeHeight * std::tan(0.5f * kFov);
+  double expected = 0;
+  constexpr int kPatch = 24, kLamp = 24;
+  for (int i = 0; i < kPatch; ++i)
+    for (int j = 0; j < kPatch; ++j) {
+      const Vec3 p(half * (2.0f * (i + 0.5f) / kPatch - 1.0f), half * (2.0f * (j + 0.5f) / kPatch - 1.0f), 0.0f);
+      double irradiance = 0;
+      for (int a = 0; a < kLamp; ++a)
+        for (int b = 0; b < kLamp; ++b) {
+          const Vec3 q = lampCorner + lampEdge1 * ((a + 0.5f) / kLamp) + lampEdge2 * ((b + 0.5f) / kLamp);
+          const Vec3 d = q - p;
+          const double dist2 = double(dot3(d, d)), cosine = double(d.z) / std::sqrt(dist2);  // both ends: d.z / |d|
+          irradiance += 2000.0 * cosine * cosine / dist2 * (kLampSize * kLampSize) / (kLamp * kLamp);
+        }
+      expected += 0.5 / kPi * irradiance / (kPatch * kPatch);
+    }
+  const Estimate e = estimateRadiance(scene, 1, 4, 1 << 16);
+  EXPECT_NEAR(e.mean, expected, 4 * e.standardError + 0.002 * expected) << "expected " << expected;
+  EXPECT_GT(expected, 1e-3);
 }
 
 TEST(PathTracer, WhiteFurnaceForLosslessMaterials) {
