@@ -8,6 +8,7 @@
 // and determinism: 1 and 2 threads give bit-identical films.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -197,6 +198,71 @@ TEST(PathTracer, GrazingAreaLightFarFromTheOriginGivesTheAnalyticDirectLight) {
   const Estimate e = estimateRadiance(scene, 1, 4, 1 << 16);
   EXPECT_NEAR(e.mean, expected, 4 * e.standardError + 0.002 * expected) << "expected " << expected;
   EXPECT_GT(expected, 1e-3);
+}
+
+// Point, spot and directional lights over a diffuse floor, the scene tilted and thousands of
+// units from the origin, seen straight down by an orthographic camera (every pixel a floor
+// point, uniformly): the direct light (depth 1) is rho / pi times the analytic irradiance,
+// averaged over the patch the camera sees (spot: glTF's quadratic falloff between the cones).
+TEST(PathTracer, PunctualLightsFarFromTheOriginGiveTheAnalyticDirectLight) {
+  const std::string file = writeTexModule("punctual", "export fn floor(h: Hit) -> Material = diffuse(spectrum(0.5))\n");
+  const Mat4 toWorld = glm::rotate(glm::translate(Mat4(1.0f), Vec3(5000.0f, -2000.0f, 3000.0f)), 0.7f,
+                                   glm::normalize(Vec3(0.2f, 1.0f, 0.5f)));
+  const auto world = [&](const Vec3& p) { return Vec3(toWorld * Vec4(p, 1.0f)); };
+  const auto worldVector = [&](const Vec3& v) { return Vec3(toWorld * Vec4(v, 0.0f)); };
+  constexpr float kHalf = 0.5f;  // the camera sees |x|, |y| <= kHalf of the floor z = 0 (local frame)
+  const float cosInner = std::cos(0.3f), cosOuter = std::cos(0.6f);
+  for (const LightDesc::Kind kind : {LightDesc::Kind::Point, LightDesc::Kind::Spot, LightDesc::Kind::Directional}) {
+    SceneDescription scene;
+    MeshPrimitive floor = makeQuad(world(Vec3(-50.0f, -50.0f, 0.0f)), worldVector(Vec3(100.0f, 0.0f, 0.0f)),
+                                   worldVector(Vec3(0.0f, 100.0f, 0.0f)));
+    floor.material = 0;
+    scene.primitives = {floor};
+    scene.instances = {MeshInstance{0, Mat4(1.0f), "floor"}};
+    scene.materials.resize(1);
+    scene.materials[0].name = "floor";
+    test::bindEntriesByMaterialName(scene, file, {"floor"});
+    CameraDesc camera = test::cameraLookingDownZ(Vec3(0.0f, 0.0f, 1.0f), 0.9f);
+    camera.orthoHalfHeight = kHalf;
+    camera.cameraToWorld = toWorld * camera.cameraToWorld;
+    scene.cameras.push_back(camera);
+    LightDesc light;
+    light.kind = kind;
+    light.emission.kind = SpectrumDesc::Kind::Constant;
+    light.emission.value = 1.0f;
+    const Vec3 position(0.4f, -0.3f, 0.8f), spotAxis = glm::normalize(Vec3(-0.2f, 0.1f, -1.0f));
+    const Vec3 travel = glm::normalize(Vec3(0.5f, -0.3f, -1.0f));
+    light.position = world(position);
+    light.direction = worldVector(kind == LightDesc::Kind::Spot ? spotAxis : travel);
+    light.intensity = kind == LightDesc::Kind::Directional ? 2.0f : 3.0f;
+    light.innerConeRadians = 0.3f;
+    light.outerConeRadians = 0.6f;
+    scene.lights.push_back(light);
+
+    double expected = 0;
+    constexpr int kGrid = 64;
+    for (int i = 0; i < kGrid; ++i)
+      for (int j = 0; j < kGrid; ++j) {
+        const Vec3 p(kHalf * (2.0f * (i + 0.5f) / kGrid - 1.0f), kHalf * (2.0f * (j + 0.5f) / kGrid - 1.0f), 0.0f);
+        double irradiance;
+        if (kind == LightDesc::Kind::Directional) {
+          irradiance = light.intensity * std::max(0.0f, -travel.z);
+        } else {
+          const Vec3 d = position - p;
+          const double dist2 = double(dot3(d, d)), cosine = double(d.z) / std::sqrt(dist2);
+          double falloff = 1;
+          if (kind == LightDesc::Kind::Spot) {
+            const double t = std::clamp((double(dot3(-d, spotAxis)) / std::sqrt(dist2) - cosOuter) / (cosInner - cosOuter), 0.0, 1.0);
+            falloff = t * t;
+          }
+          irradiance = light.intensity * falloff * cosine / dist2;
+        }
+        expected += 0.5 / kPi * irradiance / (kGrid * kGrid);
+      }
+    const Estimate e = estimateRadiance(scene, 1, 4, 1 << 15);
+    EXPECT_NEAR(e.mean, expected, 4 * e.standardError + 0.003 * expected) << "light kind " << int(kind);
+    EXPECT_GT(expected, 0.05);
+  }
 }
 
 TEST(PathTracer, WhiteFurnaceForLosslessMaterials) {
