@@ -290,7 +290,7 @@ std::unique_ptr<SceneGeometry> SceneGeometry::build(const SceneDescription& scen
       inst.pointError = Vec3(maxAbsComponent(inst.pointError));
     }
     if (geomId == RTC_INVALID_GEOMETRY_ID) break;
-    inst.pointError = trianglePointError(inst.pointError, inst.pointError, inst.pointError);
+    inst.pointError *= kTrianglePointRelativeError;  // trianglePointError of the extent
     if (im.instanceOfTopGeometry.size() <= geomId) im.instanceOfTopGeometry.resize(geomId + 1, -1);
     im.instanceOfTopGeometry[geomId] = instanceIndex;
     geometry->triangleCount_ += prim.indices.size() / 3;

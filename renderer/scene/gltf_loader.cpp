@@ -237,34 +237,32 @@ class Importer {
       const tinygltf::Node& node = model_.nodes[size_t(pending.node)];
       const std::string where = "node " + std::to_string(pending.node) + (node.name.empty() ? "" : " \"" + node.name + "\"");
       const tinygltf::Skin& skin = model_.skins[size_t(node.skin)];
-      std::string err;  // set: render unskinned
-      for (size_t j = 0; j < skin.joints.size() && err.empty(); ++j)
-        if (skin.joints[j] < 0 || size_t(skin.joints[j]) >= worldOfNode_.size() || !worldOfNode_[size_t(skin.joints[j])])
-          err = "joint " + std::to_string(j) + " is node " + std::to_string(skin.joints[j]) + ", which is not in the rendered scene";
+      // A joint outside the scene: render unskinned (a warning); a malformed skin: an error.
+      const int outside = jointOutsideScene(skin, worldOfNode_);
       std::vector<Mat4> joints;
-      if (err.empty()) {
+      if (outside < 0) {
         const std::string jointErr = jointMatrices(model_, skin, worldOfNode_, joints);
         if (!jointErr.empty()) return fail(where + " skin " + std::to_string(node.skin) + " " + jointErr), false;
       }
       for (size_t k = 0; k < pending.mesh->primitives.size(); ++k) {
         const int p = pending.mesh->primitives[k];
-        if (err.empty()) {
+        const tinygltf::Primitive& gltfPrim = model_.meshes[size_t(node.mesh)].primitives[pending.mesh->gltfPrimitives[k]];
+        const bool influenced = gltfPrim.attributes.count("JOINTS_0") && gltfPrim.attributes.count("WEIGHTS_0");
+        if (outside < 0 && influenced) {
           MeshPrimitive skinned = in_.scene.primitives[size_t(p)];
-          const tinygltf::Primitive& gltfPrim = model_.meshes[size_t(node.mesh)].primitives[pending.mesh->gltfPrimitives[k]];
           const std::string skinErr = skinToWorld(model_, gltfPrim, joints, pending.world, skinned);
-          if (skinErr.empty()) {
-            in_.scene.instances.push_back(MeshInstance{int(in_.scene.primitives.size()), Mat4(1.0f), node.name});
-            in_.scene.primitives.push_back(std::move(skinned));
-            continue;
-          }
-          if (skinErr.find("without JOINTS_0") == std::string::npos)
-            return fail(where + " skin " + std::to_string(node.skin) + ": " + skinErr), false;
-          in_.warn(where + " has a skin but its mesh's primitive " + std::to_string(k) + " has no joint influences; placed by the node");
+          if (!skinErr.empty()) return fail(where + " skin " + std::to_string(node.skin) + ": " + skinErr), false;
+          in_.scene.instances.push_back(MeshInstance{int(in_.scene.primitives.size()), Mat4(1.0f), node.name});
+          in_.scene.primitives.push_back(std::move(skinned));
+          continue;
         }
+        if (outside < 0)
+          in_.warn(where + " has a skin but its mesh's primitive " + std::to_string(k) + " has no JOINTS_0 / WEIGHTS_0; placed by the node");
         in_.scene.instances.push_back(MeshInstance{p, pending.world, node.name});
       }
-      if (!err.empty())
-        in_.warn(where + " skin " + std::to_string(node.skin) + " " + err + "; the mesh is placed by its node, unskinned");
+      if (outside >= 0)
+        in_.warn(where + " skin " + std::to_string(node.skin) + " joint " + std::to_string(outside) + " is node " +
+                 std::to_string(skin.joints[size_t(outside)]) + ", which is not in the rendered scene; the mesh is placed by its node, unskinned");
     }
     return true;
   }

@@ -58,9 +58,20 @@ std::string applyMorphTargets(const tinygltf::Model& model, const tinygltf::Prim
   return "";
 }
 
+int jointOutsideScene(const tinygltf::Skin& skin, const std::vector<std::optional<Mat4>>& worldOfNode) {
+  for (size_t j = 0; j < skin.joints.size(); ++j) {
+    const int node = skin.joints[j];
+    if (node < 0 || size_t(node) >= worldOfNode.size() || !worldOfNode[size_t(node)]) return int(j);
+  }
+  return -1;
+}
+
 std::string jointMatrices(const tinygltf::Model& model, const tinygltf::Skin& skin,
                           const std::vector<std::optional<Mat4>>& worldOfNode, std::vector<Mat4>& out) {
   if (skin.joints.empty()) return "has no joints";
+  if (const int j = jointOutsideScene(skin, worldOfNode); j >= 0)
+    return "joint " + std::to_string(j) + " is node " + std::to_string(skin.joints[size_t(j)]) +
+           ", which is not in the rendered scene";
   std::vector<float> inverseBind;
   if (skin.inverseBindMatrices >= 0) {
     std::string err = readFloatAccessor(model, skin.inverseBindMatrices, TINYGLTF_TYPE_MAT4, kFloatComponents, inverseBind);
@@ -72,8 +83,6 @@ std::string jointMatrices(const tinygltf::Model& model, const tinygltf::Skin& sk
   out.resize(skin.joints.size());
   for (size_t j = 0; j < skin.joints.size(); ++j) {
     const int node = skin.joints[j];
-    if (node < 0 || size_t(node) >= worldOfNode.size() || !worldOfNode[size_t(node)])
-      return "joint " + std::to_string(j) + " is node " + std::to_string(node) + ", which is not in the rendered scene";
     const Mat4 bind = inverseBind.empty() ? Mat4(1.0f) : glm::make_mat4(&inverseBind[j * 16]);  // column-major
     out[j] = *worldOfNode[size_t(node)] * bind;
   }
@@ -86,7 +95,6 @@ std::string skinToWorld(const tinygltf::Model& model, const tinygltf::Primitive&
   // Influences from every JOINTS_k / WEIGHTS_k pair (four per set).
   std::vector<Mat4> blended(n, Mat4(0.0f));
   std::vector<float> weightSum(n, 0.0f);
-  bool any = false;
   for (int set = 0;; ++set) {
     const int jointsAccessor = attributeOf(gltfPrimitive.attributes, "JOINTS_" + std::to_string(set));
     const int weightsAccessor = attributeOf(gltfPrimitive.attributes, "WEIGHTS_" + std::to_string(set));
@@ -110,10 +118,8 @@ std::string skinToWorld(const tinygltf::Model& model, const tinygltf::Primitive&
           return where + ": joint " + std::to_string(int64_t(joint)) + " of a skin with " + std::to_string(joints.size());
         blended[v] += weight * joints[size_t(joint)];
         weightSum[v] += weight;
-        any = true;
       }
   }
-  if (!any) return "a skinned mesh without JOINTS_0 / WEIGHTS_0 influences";
   for (size_t v = 0; v < n; ++v) {
     const Mat4 m = weightSum[v] > 0.0f ? blended[v] * (1.0f / weightSum[v]) : fallback;
     prim.positions[v] = Vec3(m * Vec4(prim.positions[v], 1.0f));

@@ -24,10 +24,14 @@ std::string applyMorphTargets(const tinygltf::Model& model, const tinygltf::Prim
 // p' = sum_k w_k jointMatrices[j_k] p over JOINTS_n / WEIGHTS_n, where jointMatrices[j] is the
 // joint's world transform times its inverse bind matrix. Normals and tangents go through the
 // blended matrix's inverse transpose (its linear part). Weights are divided by their sum; a
-// vertex whose weights sum to 0 keeps `fallback` (the mesh node's world transform). Returns ""
-// or the problem.
+// vertex whose weights sum to 0 (or that has no JOINTS_n / WEIGHTS_n at all) is placed by
+// `fallback` (the mesh node's world transform). Returns "" or the problem.
 std::string skinToWorld(const tinygltf::Model& model, const tinygltf::Primitive& gltfPrimitive,
                         const std::vector<Mat4>& jointMatrices, const Mat4& fallback, MeshPrimitive& prim);
+
+// The first joint of `skin` that is not a node of the rendered scene (no world transform in
+// `worldOfNode`), or -1.
+int jointOutsideScene(const tinygltf::Skin& skin, const std::vector<std::optional<Mat4>>& worldOfNode);
 
 // The skin's joint matrices: world(joint j) x inverseBindMatrices[j] (identity when the skin
 // has none). `worldOfNode` holds the world transform of every node of the scene; a joint

@@ -643,6 +643,19 @@ TEST_F(GltfMutated, SkinnedMeshesArePlacedByTheirJointsInTheRestPose) {
   ASSERT_TRUE(scene) << errors[0];
   EXPECT_TRUE(anyContains(scene->warnings, "unskinned"));
   doc["skins"][0]["joints"] = {0, 2};
+  {
+    json bare = doc;  // a skinned node whose primitive has no influences: placed by the node
+    bare["meshes"][0]["primitives"][0]["attributes"].erase("JOINTS_0");
+    bare["meshes"][0]["primitives"][0]["attributes"].erase("WEIGHTS_0");
+    scene = loadGltf(write("skin-bare.gltf", bare.dump()), errors);
+    ASSERT_TRUE(scene) << errors[0];
+    EXPECT_TRUE(anyContains(scene->warnings, "no JOINTS_0"));
+    for (const MeshInstance& instance : scene->instances) {
+      if (instance.nodeName == "quad") {
+        EXPECT_EQ(instance.objectToWorld[0][0], 2.0f);  // the node's scale
+      }
+    }
+  }
   doc["accessors"][6]["count"] = 1;  // one inverse bind matrix for two joints
   expectError(doc, "inverse bind matrices");
   doc["accessors"][6]["count"] = 2;

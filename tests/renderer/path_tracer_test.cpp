@@ -142,6 +142,30 @@ TEST(PathTracer, ClosedCavityFarFromTheOriginKeepsItsRadiance) {
   EXPECT_EQ(e.nonFinite, 0u);
 }
 
+// A diffuse floor (material "floor", a 100 x 100 quad at z = 0 facing +z in a local frame)
+// seen straight down by `camera` (local: cameraLookingDownZ or its orthographic variant), the
+// whole scene moved rigidly by `toWorld`: tilted, so that no surface is axis-aligned, and far
+// from the origin. The tests add lights in the local frame through toWorld.
+struct FarFloor {
+  Mat4 toWorld;
+  Vec3 world(const Vec3& p) const { return Vec3(toWorld * Vec4(p, 1.0f)); }
+  Vec3 worldVector(const Vec3& v) const { return Vec3(toWorld * Vec4(v, 0.0f)); }
+  SceneDescription scene(const std::string& texFile, CameraDesc camera) const {
+    SceneDescription s;
+    MeshPrimitive floor = makeQuad(world(Vec3(-50.0f, -50.0f, 0.0f)), worldVector(Vec3(100.0f, 0.0f, 0.0f)),
+                                   worldVector(Vec3(0.0f, 100.0f, 0.0f)));
+    floor.material = 0;
+    s.primitives = {floor};
+    s.instances = {MeshInstance{0, Mat4(1.0f), "floor"}};
+    s.materials.resize(1);
+    s.materials[0].name = "floor";
+    test::bindEntriesByMaterialName(s, texFile, {"floor"});
+    camera.cameraToWorld = toWorld * camera.cameraToWorld;
+    s.cameras.push_back(camera);
+    return s;
+  }
+};
+
 // A small lamp lighting a floor patch at a grazing angle (cosines about 0.13 at both ends),
 // the scene tilted and placed thousands of units from the origin: the direct light (depth 1)
 // is the lamp's irradiance integrated numerically, rho / pi x E. Shadow rays aim from their
@@ -155,28 +179,19 @@ TEST(PathTracer, GrazingAreaLightFarFromTheOriginGivesTheAnalyticDirectLight) {
   // Built in a local frame (floor z = 0 facing +z, lamp above it facing down, camera looking
   // down at the floor), then moved rigidly: a tilt, so that no surface is axis-aligned, and an
   // offset of thousands of units.
-  const Mat4 toWorld = glm::rotate(glm::translate(Mat4(1.0f), Vec3(3000.0f, 1000.0f, -2000.0f)), 0.5f,
-                                   glm::normalize(Vec3(1.0f, 1.0f, 0.3f)));
-  const auto world = [&](const Vec3& p) { return Vec3(toWorld * Vec4(p, 1.0f)); };
-  const auto worldVector = [&](const Vec3& v) { return Vec3(toWorld * Vec4(v, 0.0f)); };
+  const FarFloor frame{glm::rotate(glm::translate(Mat4(1.0f), Vec3(3000.0f, 1000.0f, -2000.0f)), 0.5f,
+                                  glm::normalize(Vec3(1.0f, 1.0f, 0.3f)))};
   constexpr float kLampDistance = 20.0f, kLampHeight = 2.6f, kLampSize = 0.3f, kEyeHeight = 1.0f, kFov = 0.9f;
-  SceneDescription scene;
-  MeshPrimitive floor = makeQuad(world(Vec3(-50.0f, -50.0f, 0.0f)), worldVector(Vec3(100.0f, 0.0f, 0.0f)),
-                                 worldVector(Vec3(0.0f, 100.0f, 0.0f)));
+  SceneDescription scene = frame.scene(file, test::cameraLookingDownZ(Vec3(0.0f, 0.0f, kEyeHeight), kFov));
   const Vec3 lampCorner(-kLampDistance, -0.5f * kLampSize, kLampHeight);
   const Vec3 lampEdge1(0.0f, kLampSize, 0.0f), lampEdge2(kLampSize, 0.0f, 0.0f);  // facing -z, down
-  MeshPrimitive lamp = makeQuad(world(lampCorner), worldVector(lampEdge1), worldVector(lampEdge2));
-  floor.material = 0;
+  MeshPrimitive lamp = makeQuad(frame.world(lampCorner), frame.worldVector(lampEdge1), frame.worldVector(lampEdge2));
   lamp.material = 1;
-  scene.primitives = {floor, lamp};
-  scene.instances = {MeshInstance{0, Mat4(1.0f), "floor"}, MeshInstance{1, Mat4(1.0f), "lamp"}};
+  scene.primitives.push_back(lamp);
+  scene.instances.push_back(MeshInstance{1, Mat4(1.0f), "lamp"});
   scene.materials.resize(2);
-  scene.materials[0].name = "floor";
   scene.materials[1].name = "lamp";
-  test::bindEntriesByMaterialName(scene, file, {"floor", "lamp"});
-  CameraDesc camera = test::cameraLookingDownZ(Vec3(0.0f, 0.0f, kEyeHeight), kFov);
-  camera.cameraToWorld = toWorld * camera.cameraToWorld;
-  scene.cameras.push_back(camera);
+  test::bindEntriesByMaterialName(scene, file, {"lamp"});
 
   // The camera sees the square patch |x|, |y| <= h tan(fov / 2) of the floor, uniformly.
   const float half = kEyeHeight * std::tan(0.5f * kFov);
@@ -206,34 +221,22 @@ TEST(PathTracer, GrazingAreaLightFarFromTheOriginGivesTheAnalyticDirectLight) {
 // averaged over the patch the camera sees (spot: glTF's quadratic falloff between the cones).
 TEST(PathTracer, PunctualLightsFarFromTheOriginGiveTheAnalyticDirectLight) {
   const std::string file = writeTexModule("punctual", "export fn floor(h: Hit) -> Material = diffuse(spectrum(0.5))\n");
-  const Mat4 toWorld = glm::rotate(glm::translate(Mat4(1.0f), Vec3(5000.0f, -2000.0f, 3000.0f)), 0.7f,
-                                   glm::normalize(Vec3(0.2f, 1.0f, 0.5f)));
-  const auto world = [&](const Vec3& p) { return Vec3(toWorld * Vec4(p, 1.0f)); };
-  const auto worldVector = [&](const Vec3& v) { return Vec3(toWorld * Vec4(v, 0.0f)); };
+  const FarFloor frame{glm::rotate(glm::translate(Mat4(1.0f), Vec3(5000.0f, -2000.0f, 3000.0f)), 0.7f,
+                                  glm::normalize(Vec3(0.2f, 1.0f, 0.5f)))};
   constexpr float kHalf = 0.5f;  // the camera sees |x|, |y| <= kHalf of the floor z = 0 (local frame)
   const float cosInner = std::cos(0.3f), cosOuter = std::cos(0.6f);
+  CameraDesc camera = test::cameraLookingDownZ(Vec3(0.0f, 0.0f, 1.0f), 0.9f);
+  camera.orthoHalfHeight = kHalf;
   for (const LightDesc::Kind kind : {LightDesc::Kind::Point, LightDesc::Kind::Spot, LightDesc::Kind::Directional}) {
-    SceneDescription scene;
-    MeshPrimitive floor = makeQuad(world(Vec3(-50.0f, -50.0f, 0.0f)), worldVector(Vec3(100.0f, 0.0f, 0.0f)),
-                                   worldVector(Vec3(0.0f, 100.0f, 0.0f)));
-    floor.material = 0;
-    scene.primitives = {floor};
-    scene.instances = {MeshInstance{0, Mat4(1.0f), "floor"}};
-    scene.materials.resize(1);
-    scene.materials[0].name = "floor";
-    test::bindEntriesByMaterialName(scene, file, {"floor"});
-    CameraDesc camera = test::cameraLookingDownZ(Vec3(0.0f, 0.0f, 1.0f), 0.9f);
-    camera.orthoHalfHeight = kHalf;
-    camera.cameraToWorld = toWorld * camera.cameraToWorld;
-    scene.cameras.push_back(camera);
+    SceneDescription scene = frame.scene(file, camera);
     LightDesc light;
     light.kind = kind;
     light.emission.kind = SpectrumDesc::Kind::Constant;
     light.emission.value = 1.0f;
     const Vec3 position(0.4f, -0.3f, 0.8f), spotAxis = glm::normalize(Vec3(-0.2f, 0.1f, -1.0f));
     const Vec3 travel = glm::normalize(Vec3(0.5f, -0.3f, -1.0f));
-    light.position = world(position);
-    light.direction = worldVector(kind == LightDesc::Kind::Spot ? spotAxis : travel);
+    light.position = frame.world(position);
+    light.direction = frame.worldVector(kind == LightDesc::Kind::Spot ? spotAxis : travel);
     light.intensity = kind == LightDesc::Kind::Directional ? 2.0f : 3.0f;
     light.innerConeRadians = 0.3f;
     light.outerConeRadians = 0.6f;
