@@ -23,6 +23,22 @@ Vec3 emissionRgb(const SceneDescription& scene, const GltfMaterial& m, const Sha
   return e == Vec3(0.0f) ? e : e * Vec3(lookupTexture(scene, m.emissiveTexture, point.uv, point.uv1, true));
 }
 
+// KHR_texture_transform on the normal texture: the map's +x points along increasing u', the
+// transformed coordinate, so the tangent turns with the texture. With uv' = R(rotation) S uv
+// (+ offset), dp/du' = dp/du du/du' + dp/dv dv/du' = dp/du cos/sx + dp/dv sin/sy, and in the
+// unit frame dp/du ~ t, dp/dv ~ -b. A mirroring scale (sx sy < 0) flips the handedness.
+void turnTangentWithTextureTransform(const TextureRef& ref, Vec3 n, Vec3& t, float& w) {
+  if (ref.rotation == 0.0f && ref.scale == Vec2(1.0f)) return;
+  const float su = ref.scale.x, sv = ref.scale.y;
+  if (su == 0.0f || sv == 0.0f) return;  // the texture is constant along one axis: keep the frame
+  const Vec3 b = glm::cross(n, t) * w;
+  const Vec3 turned = t * (std::cos(ref.rotation) / su) - b * (std::sin(ref.rotation) / sv);
+  const float length = glm::length(turned);
+  if (!(length > 1e-8f) || !std::isfinite(length)) return;
+  t = turned / length;
+  if (su * sv < 0.0f) w = -w;
+}
+
 Vec3 normalMappedNormal(const SceneDescription& scene, const GltfMaterial& m, const ShadingPoint& point, Vec3& tangentOut) {
   const Vec3 n = point.ns;
   tangentOut = point.dpdu;
@@ -40,6 +56,7 @@ Vec3 normalMappedNormal(const SceneDescription& scene, const GltfMaterial& m, co
   const float tl = glm::length(t);
   if (!(tl > 1e-8f)) return n;
   t /= tl;
+  turnTangentWithTextureTransform(m.normalTexture, n, t, w);
   const Vec3 b = glm::cross(n, t) * w;
   const Vec4 texel = lookupTexture(scene, m.normalTexture, point.uv, point.uv1, false, Vec4(0.5f, 0.5f, 1.0f, 1.0f));
   const Vec3 local = Vec3((texel.x * 2.0f - 1.0f) * m.normalScale, (texel.y * 2.0f - 1.0f) * m.normalScale, texel.z * 2.0f - 1.0f);
