@@ -264,7 +264,7 @@ bool MaterialSystem::readsPixelFootprint(int material) const {
   const int s = im.slot(material);
   const int binding = im.bindingOfMaterial[size_t(s)];
   if (binding >= 0) return !im.compiled.bindings[size_t(binding)].hitIndependent;
-  return im.gltf(s) != nullptr;
+  return false;  // glTF materials look their textures up bilinearly at the finest level
 }
 
 float MaterialSystem::averageEmission(int material) const { return impl_->averageEmission[size_t(impl_->slot(material))]; }

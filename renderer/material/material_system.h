@@ -59,9 +59,9 @@ class MaterialSystem {
   Spectrum emission(int material, const ShadingPoint& point, const Wavelengths& lambda) const;
   bool isEmissive(int material) const;
   // Whether shading `material` may read the pixel footprint (ShadingPoint's dpdx ... duvdy),
-  // so that an integrator computes it only for those: false for a .tex material whose closure
-  // tree provably ignores the Hit and for the default grey; true otherwise (glTF materials
-  // filter their textures with it).
+  // so that an integrator computes it only for those: true for a .tex material whose closure
+  // tree may read the Hit; false for the others, the default grey and glTF materials (their
+  // textures are looked up bilinearly at full resolution, without a footprint).
   bool readsPixelFootprint(int material) const;
   bool emitsBothSides(int material) const;
   // The texture coordinate set area lights of `material` give its emission as ShadingPoint::uv
