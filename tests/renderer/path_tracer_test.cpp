@@ -329,6 +329,55 @@ FilmAccumulator renderFilm(const RenderScene& rs, int threads, uint64_t samples,
   return film;
 }
 
+// glTF 2.0 (Appendix B): a metal's Fresnel term is baseColor at normal incidence. A mirror-smooth
+// metal seen head-on by an orthographic camera under a white (RGB (1,1,1)) sky therefore develops
+// to its base colour. Gold's base colour had come out (0.46, 0.80, 0.31) when the conductor's
+// complex IOR was fitted per RGB channel instead of per wavelength.
+TEST(PathTracer, SmoothGltfMetalsReflectTheirBaseColourAtNormalIncidence) {
+  const Vec3 colours[] = {Vec3(1.0f, 0.766f, 0.336f), Vec3(0.955f, 0.638f, 0.538f), Vec3(0.1f, 0.8f, 0.2f),
+                          Vec3(0.2f, 0.3f, 0.9f), Vec3(0.5f)};
+  for (const Vec3& base : colours) {
+    SceneDescription scene;
+    MeshPrimitive quad = makeQuad(Vec3(-1.0f, -1.0f, 0.0f), Vec3(2.0f, 0.0f, 0.0f), Vec3(0.0f, 2.0f, 0.0f));
+    quad.material = 0;
+    scene.primitives.push_back(std::move(quad));
+    scene.instances.push_back(MeshInstance{0, Mat4(1.0f), "mirror"});
+    GltfMaterial metal;
+    metal.name = "metal";
+    metal.baseColorFactor = Vec4(base, 1.0f);
+    metal.metallicFactor = 1.0f;
+    metal.roughnessFactor = 0.0f;
+    scene.materials.push_back(metal);
+    CameraDesc camera = test::cameraLookingDownZ(Vec3(0.0f, 0.0f, 3.0f), 0.5f);
+    camera.orthoHalfHeight = 0.5f;
+    scene.cameras.push_back(camera);
+    LightDesc sky;
+    sky.kind = LightDesc::Kind::ConstantEnvironment;
+    sky.emission.kind = SpectrumDesc::Kind::Rgb;
+    sky.emission.rgb = Vec3(1.0f);
+    scene.lights.push_back(sky);
+    const std::unique_ptr<RenderScene> rs = buildSquare(scene, 8);
+    ASSERT_TRUE(rs);
+    FilmOptions f;
+    f.width = f.height = 8;
+    f.filter = FilterKind::Box;
+    f.settings.maxDepth = 2;
+    const DevelopedImage img = renderFilm(*rs, 2, 8 * 8 * 256, f).develop();
+    for (int c = 0; c < 3; ++c) {
+      double sum = 0, var = 0;
+      for (int p = 0; p < img.width * img.height; ++p) {
+        sum += img.rgb[size_t(p) * 3 + size_t(c)];
+        var += img.variance[size_t(p) * 3 + size_t(c)];
+      }
+      const double n = double(img.width * img.height);
+      const double mean = sum / n, standardError = std::sqrt(var) / n;
+      // 3e-3: the RGB upsampling round trip; Gulbrandsen's IOR clamps reflectance at 0.99.
+      EXPECT_NEAR(mean, std::min(base[c], 1.0f), 4 * standardError + 3e-3 + (base[c] > 0.99f ? 0.01 : 0.0))
+          << "base (" << base.x << ", " << base.y << ", " << base.z << ") channel " << c;
+    }
+  }
+}
+
 TEST(PathTracer, SpectralFurnaceDevelopsToTheIlluminantsColourAndIsThreadCountIndependent) {
   // An albedo-1 diffuse sphere under a D65 sky of luminance 1 (RGB (1,1,1) as an illuminant)
   // develops to linear sRGB (1,1,1); 1 and 2 threads give the same fixed-point film sums.
