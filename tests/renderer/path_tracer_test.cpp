@@ -329,6 +329,29 @@ FilmAccumulator renderFilm(const RenderScene& rs, int threads, uint64_t samples,
   return film;
 }
 
+// A sky of linear sRGB (1, 1, 1) as an illuminant (D65 of luminance 1).
+LightDesc whiteRgbSky() {
+  LightDesc sky;
+  sky.kind = LightDesc::Kind::ConstantEnvironment;
+  sky.emission.kind = SpectrumDesc::Kind::Rgb;
+  sky.emission.rgb = Vec3(1.0f);
+  return sky;
+}
+
+// The image mean of one channel and its standard error (from the film's variance channel).
+Estimate channelMean(const DevelopedImage& img, int channel) {
+  double sum = 0, var = 0;
+  for (int p = 0; p < img.width * img.height; ++p) {
+    sum += img.rgb[size_t(p) * 3 + size_t(channel)];
+    var += img.variance[size_t(p) * 3 + size_t(channel)];
+  }
+  const double n = double(img.width * img.height);
+  Estimate e;
+  e.mean = sum / n;
+  e.standardError = std::sqrt(var) / n;
+  return e;
+}
+
 // glTF 2.0 (Appendix B): a metal's Fresnel term is baseColor at normal incidence. A mirror-smooth
 // metal seen head-on by an orthographic camera under a white (RGB (1,1,1)) sky therefore develops
 // to its base colour. Gold's base colour had come out (0.46, 0.80, 0.31) when the conductor's
@@ -351,11 +374,7 @@ TEST(PathTracer, SmoothGltfMetalsReflectTheirBaseColourAtNormalIncidence) {
     CameraDesc camera = test::cameraLookingDownZ(Vec3(0.0f, 0.0f, 3.0f), 0.5f);
     camera.orthoHalfHeight = 0.5f;
     scene.cameras.push_back(camera);
-    LightDesc sky;
-    sky.kind = LightDesc::Kind::ConstantEnvironment;
-    sky.emission.kind = SpectrumDesc::Kind::Rgb;
-    sky.emission.rgb = Vec3(1.0f);
-    scene.lights.push_back(sky);
+    scene.lights.push_back(whiteRgbSky());
     const std::unique_ptr<RenderScene> rs = buildSquare(scene, 8);
     ASSERT_TRUE(rs);
     FilmOptions f;
@@ -364,15 +383,9 @@ TEST(PathTracer, SmoothGltfMetalsReflectTheirBaseColourAtNormalIncidence) {
     f.settings.maxDepth = 2;
     const DevelopedImage img = renderFilm(*rs, 2, 8 * 8 * 256, f).develop();
     for (int c = 0; c < 3; ++c) {
-      double sum = 0, var = 0;
-      for (int p = 0; p < img.width * img.height; ++p) {
-        sum += img.rgb[size_t(p) * 3 + size_t(c)];
-        var += img.variance[size_t(p) * 3 + size_t(c)];
-      }
-      const double n = double(img.width * img.height);
-      const double mean = sum / n, standardError = std::sqrt(var) / n;
+      const Estimate e = channelMean(img, c);
       // 3e-3: the RGB upsampling round trip (Gulbrandsen's IOR clamps reflectance at 0.9999).
-      EXPECT_NEAR(mean, base[c], 4 * standardError + 3e-3)
+      EXPECT_NEAR(e.mean, base[c], 4 * e.standardError + 3e-3)
           << "base (" << base.x << ", " << base.y << ", " << base.z << ") channel " << c;
     }
   }
@@ -383,11 +396,7 @@ TEST(PathTracer, SpectralFurnaceDevelopsToTheIlluminantsColourAndIsThreadCountIn
   // develops to linear sRGB (1,1,1); 1 and 2 threads give the same fixed-point film sums.
   const std::string file = writeTexModule("spectral_furnace", "export fn white(h: Hit) -> Material = diffuse(spectrum(1.0))\n");
   SceneDescription scene = oneObjectScene(makeSphere(Vec3(0.0f), 1.0f, 48, 24, false), file, "white", Vec3(0.0f, 0.0f, 3.0f));
-  LightDesc sky;
-  sky.kind = LightDesc::Kind::ConstantEnvironment;
-  sky.emission.kind = SpectrumDesc::Kind::Rgb;
-  sky.emission.rgb = Vec3(1.0f);
-  scene.lights.push_back(sky);
+  scene.lights.push_back(whiteRgbSky());
   const std::unique_ptr<RenderScene> rs = buildSquare(scene, 32);
   ASSERT_TRUE(rs);
   const FilmAccumulator one = renderFilm(*rs, 1, 32 * 32 * 64);
@@ -395,14 +404,8 @@ TEST(PathTracer, SpectralFurnaceDevelopsToTheIlluminantsColourAndIsThreadCountIn
   EXPECT_TRUE(one.sums() == two.sums());
   const DevelopedImage img = one.develop();
   for (int c = 0; c < 3; ++c) {
-    double sum = 0, var = 0;
-    for (int p = 0; p < img.width * img.height; ++p) {
-      sum += img.rgb[size_t(p) * 3 + size_t(c)];
-      var += img.variance[size_t(p) * 3 + size_t(c)];
-    }
-    const double n = double(img.width * img.height);
-    const double mean = sum / n, standardError = std::sqrt(var) / n;
-    EXPECT_NEAR(mean, 1.0, 4 * standardError + 2e-3) << "channel " << c;  // 2e-3: RGB upsampling round trip
+    const Estimate e = channelMean(img, c);
+    EXPECT_NEAR(e.mean, 1.0, 4 * e.standardError + 2e-3) << "channel " << c;  // 2e-3: RGB upsampling round trip
   }
 }
 
