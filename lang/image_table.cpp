@@ -2,6 +2,9 @@
 // library) and the mip pyramid.
 #include "lang/image_table.h"
 
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfInputFile.h>
 #include <ImfRgbaFile.h>
 #include <stb/stb_image.h>
 
@@ -120,30 +123,61 @@ bool decodePng(const std::string& path, bool data, ImageLevel& out, std::string&
   return true;
 }
 
+// Luminance and luminance-chroma files (Y, RY, BY): RgbaInputFile converts them to RGBA (in
+// half precision, which is what such files store).
+bool decodeExrLuminance(const std::string& path, ImageLevel& out) {
+  Imf::RgbaInputFile file(path.c_str());
+  const Imath::Box2i window = file.dataWindow();
+  const int w = window.max.x - window.min.x + 1, h = window.max.y - window.min.y + 1;
+  std::vector<Imf::Rgba> pixels(size_t(w) * size_t(h));
+  file.setFrameBuffer(pixels.data() - window.min.x - int64_t(window.min.y) * w, 1, size_t(w));
+  file.readPixels(window.min.y, window.max.y);
+  const bool hasAlpha = (file.channels() & Imf::WRITE_A) != 0;
+  out.width = w;
+  out.height = h;
+  out.rgba.resize(pixels.size() * 4);
+  for (size_t i = 0; i < pixels.size(); ++i) {
+    out.rgba[4 * i + 0] = float(pixels[i].r);
+    out.rgba[4 * i + 1] = float(pixels[i].g);
+    out.rgba[4 * i + 2] = float(pixels[i].b);
+    out.rgba[4 * i + 3] = hasAlpha ? float(pixels[i].a) : 1.0f;
+  }
+  return true;
+}
+
 bool decodeExr(const std::string& path, ImageLevel& out, std::string& message) {
   try {
-    // RgbaInputFile reads RGB, RGBA and luminance (Y, and Y with chroma) files as RGBA.
-    Imf::RgbaInputFile file(path.c_str());
-    Imath::Box2i window = file.dataWindow();
-    int w = window.max.x - window.min.x + 1;
-    int h = window.max.y - window.min.y + 1;
-    if (w <= 0 || h <= 0 || int64_t(w) * h > (int64_t(1) << 28)) {
+    Imf::InputFile file(path.c_str());
+    const Imath::Box2i window = file.header().dataWindow();
+    const int64_t w = int64_t(window.max.x) - window.min.x + 1;
+    const int64_t h = int64_t(window.max.y) - window.min.y + 1;
+    if (w <= 0 || h <= 0 || w * h > (int64_t(1) << 28)) {
       message = "OpenEXR image has an unusable size";
       return false;
     }
-    std::vector<Imf::Rgba> pixels(size_t(w) * size_t(h));
-    file.setFrameBuffer(pixels.data() - window.min.x - int64_t(window.min.y) * w, 1, size_t(w));
+    const Imf::ChannelList& channels = file.header().channels();
+    const char* names[4] = {"R", "G", "B", "A"};
+    bool anyColour = false, subsampled = false;
+    for (int c = 0; c < 4; ++c)
+      if (const Imf::Channel* ch = channels.findChannel(names[c])) {
+        anyColour |= c < 3;
+        subsampled |= ch->xSampling != 1 || ch->ySampling != 1;
+      }
+    if (!anyColour || subsampled) return decodeExrLuminance(path, out);
+    // R, G, B, A read as 32-bit floats whatever their storage (half, float or uint), so float
+    // files keep their precision and values beyond half's range (65504). A missing colour
+    // channel reads 0, a missing alpha 1.
+    out.width = int(w);
+    out.height = int(h);
+    out.rgba.assign(size_t(w) * size_t(h) * 4, 0.0f);
+    Imf::FrameBuffer frameBuffer;
+    char* origin = reinterpret_cast<char*>(out.rgba.data()) -
+                   (int64_t(window.min.x) + int64_t(window.min.y) * w) * int64_t(4 * sizeof(float));
+    for (int c = 0; c < 4; ++c)
+      frameBuffer.insert(names[c], Imf::Slice(Imf::FLOAT, origin + c * sizeof(float), 4 * sizeof(float),
+                                              size_t(w) * 4 * sizeof(float), 1, 1, c == 3 ? 1.0 : 0.0));
+    file.setFrameBuffer(frameBuffer);
     file.readPixels(window.min.y, window.max.y);
-    bool hasAlpha = (file.channels() & Imf::WRITE_A) != 0;
-    out.width = w;
-    out.height = h;
-    out.rgba.resize(pixels.size() * 4);
-    for (size_t i = 0; i < pixels.size(); ++i) {
-      out.rgba[4 * i + 0] = float(pixels[i].r);
-      out.rgba[4 * i + 1] = float(pixels[i].g);
-      out.rgba[4 * i + 2] = float(pixels[i].b);
-      out.rgba[4 * i + 3] = hasAlpha ? float(pixels[i].a) : 1.0f;
-    }
     return true;
   } catch (const std::exception& e) {
     message = std::string("cannot decode OpenEXR: ") + e.what();

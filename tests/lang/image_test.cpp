@@ -10,6 +10,11 @@
 #include <thread>
 #include <vector>
 
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfOutputFile.h>
+
 #include "lang/image_table.h"
 #include "lang/interpreter.h"
 #include "lang/session.h"
@@ -77,6 +82,30 @@ TEST(ImageDecode, ExrRgbAndLuminance) {
   EXPECT_EQ(hdr.levels[0].rgba, (std::vector<float>{0.5f, 2, 4, 1, 0.25f, 0.125f, 8, 1, 1.5f, 3, 0.75f, 1, 16, 0, 1, 1}));
   const LoadedImage& lum = loadFixture("lum.exr");
   EXPECT_EQ(lum.levels[0].rgba, (std::vector<float>{0.25f, 0.25f, 0.25f, 1, 6, 6, 6, 1}));
+}
+
+// A 32-bit float OpenEXR keeps its values: no rounding to half precision (1.66134727 became
+// 1.66113281) and no overflow past half's 65504 (1e5 became inf), nor underflow of 3e-8.
+TEST(ImageDecode, FloatExrKeepsFullPrecisionAndRange) {
+  const fs::path file = scratchDir("float_exr") / "float.exr";
+  const std::vector<float> r = {1.66134727f, 1e5f}, g = {3e-8f, -2.5f}, b = {0.1f, 70000.0f};
+  Imf::Header header(2, 1);
+  for (const char* name : {"R", "G", "B"}) header.channels().insert(name, Imf::Channel(Imf::FLOAT));
+  {
+    Imf::OutputFile out(file.c_str(), header);
+    Imf::FrameBuffer fb;
+    fb.insert("R", Imf::Slice(Imf::FLOAT, (char*)r.data(), sizeof(float), 2 * sizeof(float)));
+    fb.insert("G", Imf::Slice(Imf::FLOAT, (char*)g.data(), sizeof(float), 2 * sizeof(float)));
+    fb.insert("B", Imf::Slice(Imf::FLOAT, (char*)b.data(), sizeof(float), 2 * sizeof(float)));
+    out.setFrameBuffer(fb);
+    out.writePixels(1);
+  }
+  ImageLevel level;
+  std::string code, message;
+  ASSERT_TRUE(decodeImageFile(file.string(), false, level, code, message)) << message;
+  EXPECT_EQ(level.width, 2);
+  EXPECT_EQ(level.height, 1);
+  EXPECT_EQ(level.rgba, (std::vector<float>{r[0], g[0], b[0], 1.0f, r[1], g[1], b[1], 1.0f}));
 }
 
 TEST(ImageDecode, ErrorsHaveCodes) {
