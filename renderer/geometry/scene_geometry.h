@@ -73,6 +73,12 @@ class SceneGeometry {
   // World-space vertices of one triangle of an instance (for area lights), with the uv of
   // texture coordinate set `uvSet` (0 or 1; set 1 falls back to set 0 where the mesh has none).
   void triangleWorld(int instance, uint32_t triangle, Vec3 p[3], Vec2 uv[3], Vec3& ng, int uvSet = 0) const;
+  // What a ray hitting this instance's triangle at barycentrics (b1, b2) of its second and
+  // third vertices would report (t = 0): for shading points sampled on lights.
+  void surfaceAt(int instance, uint32_t triangle, float b1, float b2, SurfaceHit& hit) const {
+    hit.t = 0.0f;
+    fillHit(instance, triangle, b1, b2, hit);
+  }
 
   struct Impl;
 

@@ -12,8 +12,18 @@ namespace tex::render {
 // The emission of one material, as area lights see it.
 struct RenderScene::Emission final : EmissionSource {
   const MaterialSystem* materials = nullptr;
+  const SceneGeometry* geometry = nullptr;
   int material = -1;
+  bool readsHit_ = false;  // the material's emission may depend on its Hit
   Spectrum radiance(const EmitterPoint& point, const Wavelengths& lambda) const override {
+    // A light sample's emission must be the one a ray hitting the same point sees (the path
+    // tracer weighs the two by MIS): for materials that read their Hit, the whole shading
+    // point (interpolated normal, both uv sets, tangent...) as a hit would give it.
+    if (readsHit_ && point.instance >= 0) {
+      SurfaceHit hit;
+      geometry->surfaceAt(point.instance, point.triangle, point.b12.x, point.b12.y, hit);
+      return materials->emission(material, shadingPoint(hit), lambda);
+    }
     ShadingPoint sp;
     sp.p = point.p;
     sp.ng = sp.ns = point.n;
@@ -23,6 +33,7 @@ struct RenderScene::Emission final : EmissionSource {
     return materials->emission(material, sp, lambda);
   }
   float averageRadiance() const override { return materials->averageEmission(material); }
+  bool readsHit() const override { return readsHit_; }
 };
 
 RenderScene::~RenderScene() = default;
@@ -103,7 +114,9 @@ std::unique_ptr<RenderScene> RenderScene::build(const SceneDescription& scene, c
     if (!emissionOfMaterial[slot]) {
       auto e = std::make_unique<RenderScene::Emission>();
       e->materials = rs->materials_.get();
+      e->geometry = rs->geometry_.get();
       e->material = slot;
+      e->readsHit_ = rs->materials_->readsHit(slot);
       emissionOfMaterial[slot] = e.get();
       rs->emissionSources_.push_back(std::move(e));
     }
@@ -135,6 +148,8 @@ std::unique_ptr<RenderScene> RenderScene::build(const SceneDescription& scene, c
       d.uv2 = uv[2];
       d.normal = ng;
       d.primitive = scene.instances[size_t(i)].primitive;
+      d.instance = i;
+      d.triangle = t;
       rs->lights_.push_back(makeTriangleLight(d, source));
       ++rs->triangleLights_;
     }

@@ -57,6 +57,12 @@ struct EmitterPoint {
   Vec3 p, n;   // position and the emitting side's normal
   Vec2 uv;     // texture coordinates (for textured emission)
   int primitive = -1;
+  // Where the point is on the scene's geometry (area lights), so that an emission that reads
+  // its Hit sees what a ray hitting this point would: instance, triangle and the barycentrics
+  // of its second and third vertices (SceneGeometry::surfaceAt). instance -1: not known.
+  int instance = -1;
+  uint32_t triangle = 0;
+  Vec2 b12{0.0f};
 };
 
 // The emission of area lights comes from the surface's material (a compiled .tex closure or a
@@ -68,6 +74,9 @@ class EmissionSource {
   virtual Spectrum radiance(const EmitterPoint& point, const Wavelengths& lambda) const = 0;
   // Luminance-like scalar for choosing lights by power (average over the surface).
   virtual float averageRadiance() const = 0;
+  // Whether the radiance may depend on more than the point's position, normal and uv (then
+  // lights pass EmitterPoint's place on the geometry, which costs a few operations).
+  virtual bool readsHit() const { return false; }
 };
 
 class Light {

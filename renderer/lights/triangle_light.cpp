@@ -7,7 +7,7 @@
 namespace tex::render {
 
 TriangleLight::TriangleLight(const TriangleLightDesc& desc, const EmissionSource* emission)
-    : desc_(desc), emission_(emission) {
+    : desc_(desc), emission_(emission), emissionReadsHit_(emission && emission->readsHit()) {
   const Vec3 c = glm::cross(desc.p1 - desc.p0, desc.p2 - desc.p0);
   const float len = std::sqrt(lengthSquared(c));
   area_ = 0.5f * len;
@@ -38,7 +38,27 @@ EmitterPoint TriangleLight::pointAt(Vec2 b) const {
   e.uv = interpolate(desc_.uv0, desc_.uv1, desc_.uv2, b);
   e.n = n_;
   e.primitive = desc_.primitive;
+  if (emissionReadsHit_) placeOnGeometry(e, b);
   return e;
+}
+
+// The barycentrics (b.x of p0, b.y of p1) of a point on the triangle (least squares on the
+// edges); only for emissions that read their Hit, so light samples need not carry them.
+Vec2 TriangleLight::barycentricsOf(const Vec3& p) const {
+  const Vec3 e0 = desc_.p0 - desc_.p2, e1 = desc_.p1 - desc_.p2, d = p - desc_.p2;
+  const float a00 = dot3(e0, e0), a01 = dot3(e0, e1), a11 = dot3(e1, e1);
+  const float b0 = dot3(e0, d), b1 = dot3(e1, d);
+  const float det = a00 * a11 - a01 * a01;
+  if (!(std::fabs(det) > 0.0f)) return Vec2(1.0f / 3.0f);
+  return Vec2((a11 * b0 - a01 * b1) / det, (a00 * b1 - a01 * b0) / det);
+}
+
+// interpolate() weighs p0, p1, p2 by b.x, b.y, 1 - b.x - b.y; SurfaceHit's barycentrics are
+// those of the second and third vertices.
+void TriangleLight::placeOnGeometry(EmitterPoint& e, Vec2 b) const {
+  e.instance = desc_.instance;
+  e.triangle = desc_.triangle;
+  e.b12 = Vec2(b.y, 1.0f - b.x - b.y);
 }
 
 Spectrum TriangleLight::L(const EmitterPoint& point, const Vec3& w, const Wavelengths& lambda) const {
@@ -97,6 +117,7 @@ Spectrum TriangleLight::deferredRadiance(const LightLiSample& sample, const Wave
   e.uv = sample.uvLight;
   e.n = n_;
   e.primitive = desc_.primitive;
+  if (emissionReadsHit_) placeOnGeometry(e, barycentricsOf(sample.pLight));
   return emission_->radiance(e, lambda);
 }
 

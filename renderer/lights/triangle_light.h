@@ -13,6 +13,8 @@ struct TriangleLightDesc {
   Vec2 uv0{0.0f}, uv1{1.0f, 0.0f}, uv2{0.0f, 1.0f};
   Vec3 normal{0.0f};  // the emitting side (the face normal is flipped to agree); 0: winding
   int primitive = -1;  // reported in EmitterPoint::primitive
+  int instance = -1;   // reported in EmitterPoint::instance (with `triangle`)
+  uint32_t triangle = 0;
 };
 
 class TriangleLight final : public Light {
@@ -37,8 +39,11 @@ class TriangleLight final : public Light {
   EmitterPoint pointAt(Vec2 b) const;
 
  private:
+  void placeOnGeometry(EmitterPoint& e, Vec2 b) const;
+  Vec2 barycentricsOf(const Vec3& p) const;
   TriangleLightDesc desc_;
   const EmissionSource* emission_;
+  bool emissionReadsHit_ = false;
   Vec3 n_{0.0f};
   float area_ = 0;
   float pdfA_ = 0;  // 1 / area_, once rather than a division per light sample

@@ -267,6 +267,14 @@ bool MaterialSystem::readsPixelFootprint(int material) const {
   return false;  // glTF materials look their textures up bilinearly at the finest level
 }
 
+bool MaterialSystem::readsHit(int material) const {
+  const Impl& im = *impl_;
+  const int s = im.slot(material);
+  const int binding = im.bindingOfMaterial[size_t(s)];
+  if (binding >= 0) return !im.compiled.bindings[size_t(binding)].hitIndependent;
+  return im.gltf(s) != nullptr && im.gltfHitIndependent[size_t(s)] == 0;
+}
+
 float MaterialSystem::averageEmission(int material) const { return impl_->averageEmission[size_t(impl_->slot(material))]; }
 
 }  // namespace tex::render

@@ -63,6 +63,9 @@ class MaterialSystem {
   // tree may read the Hit; false for the others, the default grey and glTF materials (their
   // textures are looked up bilinearly at full resolution, without a footprint).
   bool readsPixelFootprint(int material) const;
+  // Whether shading or emission of `material` may depend on the ShadingPoint at all (false for
+  // Hit-independent .tex materials, glTF materials without textures and the default grey).
+  bool readsHit(int material) const;
   bool emitsBothSides(int material) const;
   // The texture coordinate set area lights of `material` give its emission as ShadingPoint::uv
   // (and uv1): 1 for a glTF material whose emissive texture reads TEXCOORD_1, else 0.

@@ -391,6 +391,52 @@ TEST(PathTracer, SmoothGltfMetalsReflectTheirBaseColourAtNormalIncidence) {
   }
 }
 
+// An emitter whose radiance reads its Hit (here its shading normal and uv) must give light
+// samples the emission a ray hitting the same point sees: MIS weighs the two techniques, so
+// any difference biases the image. A lamp quad whose vertex normals lean away from its face
+// normal lights a diffuse floor; next-event estimation with MIS must agree with BSDF sampling
+// alone. (Light samples had seen the flat face normal and read 1.04x instead of 1.8x.)
+TEST(PathTracer, HitDependentEmittersLookTheSameToLightSamplesAndToRays) {
+  const std::string file = writeTexModule(
+      "hit_emitter",
+      "export fn floor(h: Hit) -> Material = diffuse(spectrum(0.5))\n"
+      "export fn lamp(h: Hit) -> Material = emission(rgb(1.0 + h.n.x, 1.0, 1.0) * (0.5 + h.uv.x))\n");
+  SceneDescription scene;
+  MeshPrimitive floor = makeQuad(Vec3(-1.0f, -1.0f, 0.0f), Vec3(2.0f, 0.0f, 0.0f), Vec3(0.0f, 2.0f, 0.0f));
+  floor.material = 0;
+  MeshPrimitive lamp = makeQuad(Vec3(-0.5f, -0.5f, 1.0f), Vec3(0.0f, 1.0f, 0.0f), Vec3(1.0f, 0.0f, 0.0f));  // faces -z
+  for (Vec3& n : lamp.normals) n = glm::normalize(Vec3(0.6f, 0.0f, -0.8f));
+  lamp.material = 1;
+  scene.primitives = {floor, lamp};
+  scene.instances = {MeshInstance{0, Mat4(1.0f), "floor"}, MeshInstance{1, Mat4(1.0f), "lamp"}};
+  GltfMaterial floorMaterial, lampMaterial;
+  floorMaterial.name = "floor";
+  lampMaterial.name = "lamp";
+  scene.materials = {floorMaterial, lampMaterial};
+  test::bindEntriesByMaterialName(scene, file, {"floor", "lamp"});
+  CameraDesc camera = test::cameraLookingDownZ(Vec3(0.0f, 0.0f, 0.5f), 0.5f);
+  camera.orthoHalfHeight = 0.8f;
+  scene.cameras.push_back(camera);
+  const std::unique_ptr<RenderScene> rs = buildSquare(scene, 8);
+  ASSERT_TRUE(rs);
+  Estimate withLightSamples[3], raysOnly[3];
+  for (bool nee : {true, false}) {
+    FilmOptions f;
+    f.width = f.height = 8;
+    f.filter = FilterKind::Box;
+    f.settings.maxDepth = 1;
+    f.settings.nextEventEstimation = nee;
+    const DevelopedImage img = renderFilm(*rs, 2, 8 * 8 * 4096, f).develop();
+    for (int c = 0; c < 3; ++c) (nee ? withLightSamples : raysOnly)[c] = channelMean(img, c);
+  }
+  for (int c = 0; c < 3; ++c) {
+    const double a = withLightSamples[c].mean, b = raysOnly[c].mean;
+    const double se = std::hypot(withLightSamples[c].standardError, raysOnly[c].standardError);
+    EXPECT_GT(b, 0.01) << "channel " << c;  // the floor is lit
+    EXPECT_NEAR(a, b, 4 * se + 1e-3 * b) << "channel " << c;
+  }
+}
+
 TEST(PathTracer, SpectralFurnaceDevelopsToTheIlluminantsColourAndIsThreadCountIndependent) {
   // An albedo-1 diffuse sphere under a D65 sky of luminance 1 (RGB (1,1,1) as an illuminant)
   // develops to linear sRGB (1,1,1); 1 and 2 threads give the same fixed-point film sums.
