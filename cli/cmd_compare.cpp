@@ -94,7 +94,7 @@ int runCompare(const Args& args) {
       std::printf("z-test: no variance channels\n");
     }
   }
-  if (maxRmse >= 0 && c.rmse > maxRmse) {
+  if (maxRmse >= 0 && !(c.rmse <= maxRmse)) {  // a NaN rmse (non-finite pixels) fails too
     std::fprintf(stderr, "tex compare: rmse %.6g exceeds --max-rmse %.6g\n", c.rmse, maxRmse);
     return 3;
   }

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <ctime>
+#include <filesystem>
 
 #include "cli/command.h"
 #include "cli/options.h"
@@ -94,6 +95,13 @@ int runDevelop(const Args& args) {
   }
   if (inputs.empty()) return usage("no sample file given");
   if (output.empty()) return usage("no output given (-o OUT.exr)");
+  const std::string extension = std::filesystem::path(output).extension().string();
+  if (extension != ".exr" && extension != ".png") return usage("output must end in .exr or .png, got '" + output + "'");
+  if (extension == ".png" && settings.spectralBins > 0) return usage("--spectral-bins needs an .exr output");
+  if (const std::string problem = outputDirectoryProblem(output); !problem.empty()) {
+    std::fprintf(stderr, "tex develop: error: %s\n", problem.c_str());
+    return 1;
+  }
 
   // Headers first: the files must describe the same render and disjoint index ranges.
   const auto start = std::chrono::steady_clock::now();
@@ -157,7 +165,7 @@ int runDevelop(const Args& args) {
       {"tex.time", isoTimeNow()},
   };
   std::string error;
-  const bool png = output.size() >= 4 && output.substr(output.size() - 4) == ".png";
+  const bool png = extension == ".png";
   if (png) {
     error = writeRgbImage(output, image.rgbImage());
   } else {

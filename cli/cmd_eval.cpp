@@ -9,6 +9,7 @@
 #include <filesystem>
 
 #include "cli/command.h"
+#include "cli/option_values.h"
 #include "cli/options.h"
 #include "cli/texture_evaluator.h"
 #include "lang/interpreter.h"
@@ -78,6 +79,10 @@ int parse(const Args& args, Options& o) {
   if (o.output.empty()) return usageError("eval", "-o OUT.exr or -o OUT.png is required");
   std::string ext = std::filesystem::path(o.output).extension().string();
   if (ext != ".exr" && ext != ".png") return usageError("eval", "output must end in .exr or .png, got '" + o.output + "'");
+  if (const std::string problem = outputDirectoryProblem(o.output); !problem.empty()) {
+    std::fprintf(stderr, "tex eval: error: %s\n", problem.c_str());
+    return 1;
+  }
   return 0;
 }
 

@@ -35,7 +35,7 @@ const char* kRenderUsage =
     "  --res WxH           image resolution (default 512x512, or the scene's)\n"
     "  --crop X,Y,W,H      render only this window of the image (pixels; the output is WxH)\n"
     "  --integrator NAME   path (default; the only one so far)\n"
-    "  --max-depth N       scattering events per path (default 8)\n"
+    "  --max-depth N       scattering events per path, 0..1000 (default 8; 0: emitters seen directly)\n"
     "  --roulette-depth N  Russian roulette may end a path after N scattering events (default 3;\n"
     "                      Mitsuba 3's rr_depth counts the same way)\n"
     "  --wavelengths N     wavelengths per path: 4 or 8 (default 4)\n"
@@ -107,7 +107,8 @@ int parseFlags(const Args& args, RenderFlags& f) {
     } else if (a == "--threads") {
       if (!value() || !parseIntInRange(v, f.threads, 1, 1024)) return usage("--threads needs 1..1024");
     } else if (a == "--seed") {
-      if (!value() || !parseCount(v, count) || count > uint64_t(INT64_MAX)) return usage("--seed needs a non-negative integer");
+      if (!value() || !parseUnsigned(v, count) || count > uint64_t(INT64_MAX))
+        return usage("--seed needs an integer 0.." + std::to_string(INT64_MAX));
       f.seed = int64_t(count);
     } else if (a == "--res") {
       if (!value() || !parseResolution(v, f.width, f.height)) return usage("--res needs WxH, e.g. 640x480");
@@ -118,7 +119,7 @@ int parseFlags(const Args& args, RenderFlags& f) {
       if (v != "path") return usage("unknown integrator '" + v + "' (available: path)");
       f.integrator = v;
     } else if (a == "--max-depth") {
-      if (!value() || !parseIntInRange(v, f.maxDepth, 1, 1000)) return usage("--max-depth needs 1..1000");
+      if (!value() || !parseIntInRange(v, f.maxDepth, 0, 1000)) return usage("--max-depth needs 0..1000");
     } else if (a == "--roulette-depth") {
       if (!value() || !parseIntInRange(v, f.rouletteDepth, 1, 1000)) return usage("--roulette-depth needs 1..1000");
     } else if (a == "--wavelengths") {
@@ -156,6 +157,11 @@ int parseFlags(const Args& args, RenderFlags& f) {
     const std::string ext = std::filesystem::path(output).extension().string();
     if (ext != ".exr" && ext != ".png") return usage("output must end in .exr or .png, got '" + output + "'");
   }
+  for (const std::string& output : f.outputs)
+    if (const std::string problem = outputDirectoryProblem(output); !problem.empty()) {
+      std::fprintf(stderr, "tex render: error: %s\n", problem.c_str());
+      return 1;
+    }
   return 0;
 }
 
@@ -216,7 +222,11 @@ int runRender(const Args& args) {
   ro.wavelengths = s.wavelengths;
   ro.useCache = !f.noCache;
   std::unique_ptr<render::RenderScene> rs = render::RenderScene::build(scene, ro, error);
-  if (!rs) return fail(f.scene + ": " + error);
+  if (!rs) {
+    // Located diagnostics already start with the scene's name (and end with a newline).
+    while (!error.empty() && error.back() == '\n') error.pop_back();
+    return fail(error.rfind(f.scene, 0) == 0 ? error : f.scene + ": " + error);
+  }
 
   if (rs->addedDefaultLight())
     std::fprintf(stderr, "tex render: note: %s has no lights; lighting it with a uniform white sky of radiance 1\n",

@@ -2,6 +2,7 @@
 #include <pthread.h>
 
 #include <algorithm>
+#include <new>
 #include <cstdio>
 #include <cstring>
 
@@ -47,7 +48,16 @@ int dispatch(int argc, char** argv) {
     return 0;
   }
   for (const Command& c : registry()) {
-    if (name == c.name) return c.run(Args(argv + 2, argv + argc));
+    if (name != c.name) continue;
+    try {
+      return c.run(Args(argv + 2, argv + argc));
+    } catch (const std::bad_alloc&) {
+      // A film, image or scene too large for this machine (a resolution within the flags'
+      // limits can still need more memory than there is): an error, not an abort.
+      std::fprintf(stderr, "tex %s: error: out of memory (the image, scene or sample data is too large for this machine)\n",
+                   c.name);
+      return 1;
+    }
   }
   std::fprintf(stderr, "tex: error: unknown command '%s'\n", name.c_str());
   printUsage(stderr);

@@ -2,8 +2,12 @@
 // sample counts with k/M/G suffixes, index ranges, seconds. Each returns false on bad input
 // so the command can say which option was wrong.
 #pragma once
+#include <unistd.h>
+
+#include <cerrno>
 #include <cstdint>
 #include <cstdlib>
+#include <filesystem>
 #include <string>
 
 #include "runtime/index_range.h"
@@ -45,6 +49,29 @@ inline bool parseCount(const std::string& text, uint64_t& count) {
   if (!(total >= 0) || total > 1.8e19 || total != std::floor(total)) return false;
   count = uint64_t(total);
   return true;
+}
+
+// A plain decimal integer 0..2^64-1, exactly (seeds: parseCount goes through a double, which
+// rounds above 2^53).
+inline bool parseUnsigned(const std::string& text, uint64_t& value) {
+  if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos) return false;
+  errno = 0;
+  char* end = nullptr;
+  const unsigned long long v = std::strtoull(text.c_str(), &end, 10);
+  if (errno == ERANGE || *end != '\0') return false;
+  value = uint64_t(v);
+  return true;
+}
+
+// Why an output file could not be written into its directory ("" if it can): checked before
+// hours of rendering, not after.
+inline std::string outputDirectoryProblem(const std::string& path) {
+  std::filesystem::path dir = std::filesystem::path(path).parent_path();
+  if (dir.empty()) dir = ".";
+  std::error_code ec;
+  if (!std::filesystem::is_directory(dir, ec)) return path + ": the directory '" + dir.string() + "' does not exist";
+  if (::access(dir.c_str(), W_OK) != 0) return path + ": the directory '" + dir.string() + "' is not writable";
+  return "";
 }
 
 // "A:B" -> [A, B) with A <= B.

@@ -254,6 +254,7 @@ bool Session::addReplInput(const std::string& text, Expr*& expression, int input
   size_t errorsBefore = diags_.items().size();
   auto ast = parseReplInput(file, diags_, expression);
   if (diags_.items().size() != errorsBefore) {
+    impl_->replRejectedSources.push_back(file);
     expression = nullptr;
     return false;
   }

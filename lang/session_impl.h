@@ -21,6 +21,8 @@ struct Session::Impl {
   std::vector<std::string> loadingStack;                             // canonical paths
   std::unique_ptr<ModuleInfo> repl;
   std::vector<std::unique_ptr<Module>> replExpressions;  // keeps REPL expression ASTs alive
+  // Inputs that failed to parse: their diagnostics point into them until they are printed.
+  std::vector<std::shared_ptr<SourceFile>> replRejectedSources;
 
   // Instances: (what, argument types) -> IR function index (-2 while being built).
   std::map<std::pair<const void*, std::vector<const Type*>>, int> instances;

@@ -1,5 +1,6 @@
 #include "renderer/material/tex_binding.h"
 
+#include <stdexcept>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -77,7 +78,8 @@ bool literalFor(const lang::Type* type, const TexParamValue& v, std::string& tex
   return false;
 }
 
-// A Spectrum parameter's value as a source: numbers are constant spectra, three numbers an RGB.
+// A Spectrum parameter's value as a source: numbers are constant spectra, three numbers an RGB
+// (anything else, such as a Bool or two numbers, is an error: it used to render black).
 SpectrumSource spectrumArgument(const TexParamValue& v) {
   SpectrumDesc d;
   if (v.kind == TexParamValue::Kind::Spectrum) {
@@ -85,12 +87,20 @@ SpectrumSource spectrumArgument(const TexParamValue& v) {
   } else if (v.kind == TexParamValue::Kind::Vec && v.floats.size() == 3) {
     d.kind = SpectrumDesc::Kind::Rgb;
     d.rgb = Vec3(v.floats[0], v.floats[1], v.floats[2]);
-  } else {
+  } else if (v.kind == TexParamValue::Kind::Int || (v.kind == TexParamValue::Kind::Float && v.floats.size() == 1)) {
     d.kind = SpectrumDesc::Kind::Constant;
-    d.value = v.kind == TexParamValue::Kind::Int ? float(v.intValue) : (v.floats.empty() ? 0.0f : v.floats[0]);
+    d.value = v.kind == TexParamValue::Kind::Int ? float(v.intValue) : v.floats[0];
+  } else {
+    throw std::invalid_argument("a Spectrum is needed: a number, [r, g, b] or a spectrum object");
+  }
+  switch (d.rgbAs) {
+    case SpectrumDesc::RgbAs::Reflectance: return SpectrumSource(d, SpectrumUse::Reflectance);
+    case SpectrumDesc::RgbAs::Unbounded: return SpectrumSource(d, SpectrumUse::Unbounded);
+    case SpectrumDesc::RgbAs::Illuminant: return SpectrumSource(d, SpectrumUse::Illuminant);
+    case SpectrumDesc::RgbAs::ByValue: break;
   }
   // RGB inside the unit cube reads as a reflectance (bounded by 1); beyond it, as an
-  // unbounded quantity (an IOR, a radiance given in RGB).
+  // unbounded quantity (an IOR, a radiance given in RGB). An emission wants "as": "illuminant".
   const bool bounded = d.kind != SpectrumDesc::Kind::Rgb || (d.rgb.x <= 1 && d.rgb.y <= 1 && d.rgb.z <= 1);
   return SpectrumSource(d, bounded ? SpectrumUse::Reflectance : SpectrumUse::Unbounded);
 }

@@ -30,6 +30,10 @@ struct SpectrumDesc {
   float scale = 1;  // multiplies any kind
   std::string name;
   std::vector<float> lambdaNm, values;
+  // How an Rgb given to a .tex Spectrum parameter is upsampled (scene JSON "as"). ByValue:
+  // a reflectance when every component is at most 1, else an unbounded quantity. Lights and
+  // environments always read their colour as an illuminant.
+  enum class RgbAs : uint8_t { ByValue, Reflectance, Unbounded, Illuminant } rgbAs = RgbAs::ByValue;
 };
 
 enum class WrapMode : uint8_t { Repeat, ClampToEdge, MirroredRepeat };

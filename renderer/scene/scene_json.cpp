@@ -322,13 +322,15 @@ class SceneJsonLoader {
       s.width = int(w);
       s.height = int(h);
     }
-    if (!r_.integer(at, "spp", s.spp, 1, 1 << 30) || !r_.integer(at, "max_depth", s.maxDepth, 0, 1 << 16) ||
+    if (!r_.integer(at, "spp", s.spp, 1, 1 << 30) || !r_.integer(at, "max_depth", s.maxDepth, 0, 1000) ||
         !r_.integer(at, "roulette_depth", s.rouletteDepth, 1, 1 << 16) ||
         !r_.integer(at, "wavelengths", s.wavelengths, 1, 8) || !r_.unsigned64(at, "seed", s.seed) ||
         !r_.string(at, "integrator", s.integrator) || !r_.integer(at, "camera", s.camera, 0, 1 << 20))
       return;
     if (s.wavelengths != 4 && s.wavelengths != 8) return r_.error(r_.child(at, "wavelengths"), "must be 4 or 8");
     if (s.integrator.empty()) return r_.error(r_.child(at, "integrator"), "must not be empty");
+    if (s.integrator != "path")  // as `tex render --integrator`
+      return r_.error(r_.child(at, "integrator"), "unknown integrator \"" + s.integrator + "\" (available: path)");
     if (r_.child(at, "camera") && size_t(s.camera) >= scene_.cameras.size())
       return r_.error(r_.child(at, "camera"), "camera " + std::to_string(s.camera) + " does not exist (the scene has " +
                                                    std::to_string(scene_.cameras.size()) + ")");

@@ -18,10 +18,11 @@ bool SceneJsonReader::spectrum(const JsonAt& at, SpectrumDesc& out) {
     return error(at, "expected a spectrum (a number, or an object with rgb, blackbody, named or tabulated), got " +
                          typeName(*at.j)),
            false;
-  if (!checkKeys(at, {"rgb", "blackbody", "named", "tabulated", "scale"})) return false;
+  if (!checkKeys(at, {"rgb", "blackbody", "named", "tabulated", "scale", "as"})) return false;
   int kinds = 0;
   for (const char* k : {"rgb", "blackbody", "named", "tabulated"}) kinds += at.j->contains(k) ? 1 : 0;
   if (kinds != 1) return error(at, "a spectrum needs exactly one of rgb, blackbody, named, tabulated"), false;
+  if (child(at, "as") && !child(at, "rgb")) return error(child(at, "as"), "\"as\" applies to rgb spectra only"), false;
   if (!number(at, "scale", out.scale)) return false;
   if (const JsonAt rgb = child(at, "rgb")) {
     std::vector<float> v;
@@ -29,6 +30,16 @@ bool SceneJsonReader::spectrum(const JsonAt& at, SpectrumDesc& out) {
     out.kind = SpectrumDesc::Kind::Rgb;
     out.rgb = Vec3(v[0], v[1], v[2]);
     if (out.rgb.x < 0 || out.rgb.y < 0 || out.rgb.z < 0) return error(rgb, "components must be >= 0"), false;
+    if (const JsonAt as = child(at, "as")) {
+      std::string use;
+      if (!string(at, "as", use)) return false;
+      if (use == "reflectance") out.rgbAs = SpectrumDesc::RgbAs::Reflectance;
+      else if (use == "unbounded") out.rgbAs = SpectrumDesc::RgbAs::Unbounded;
+      else if (use == "illuminant") out.rgbAs = SpectrumDesc::RgbAs::Illuminant;
+      else return error(as, "\"as\" must be \"reflectance\", \"unbounded\" or \"illuminant\", got \"" + use + "\""), false;
+      if (out.rgbAs == SpectrumDesc::RgbAs::Reflectance && (out.rgb.x > 1 || out.rgb.y > 1 || out.rgb.z > 1))
+        return error(rgb, "a reflectance's components must be <= 1"), false;
+    }
   } else if (child(at, "blackbody")) {
     out.kind = SpectrumDesc::Kind::Blackbody;
     if (!number(at, "blackbody", out.kelvin, 100.0f, 1e6f)) return false;

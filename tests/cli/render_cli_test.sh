@@ -4,7 +4,7 @@
 # (never a crash), and help works. Usage: render_cli_test.sh TEX SOURCE_DIR
 set -uo pipefail
 tex=$1
-src=$2
+src=$(cd "$2" && pwd)
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 failures=0
@@ -96,5 +96,24 @@ head -c 3000 "$src/scenes/cornell-box.gltf" > "$tmp/trunc.gltf"
 expect_exit 1 "truncated glTF" "$tex" render "$tmp/trunc.gltf" -o "$tmp/x.exr"
 head -c 100 /dev/urandom > "$tmp/noise.glb"
 expect_exit 1 "garbage glb" "$tex" render "$tmp/noise.glb" -o "$tmp/x.exr"
+
+# Found by hunting (round 12): each was a crash, lost work or a silent wrong answer.
+expect_exit 1 "output directory missing" "$tex" render "$scene" --spp 1000000 --res 32x32 -q -o "$tmp/nodir/x.exr"
+echo "$out" | grep -q "does not exist" || fail "a missing output directory is not reported before rendering: $out"
+expect_exit 1 "develop into a missing directory" "$tex" develop "$tmp/s.samples" --res 8x8 -o "$tmp/nodir/d.exr"
+expect_exit 2 "develop to .jpg" "$tex" develop "$tmp/s.samples" --res 8x8 -o "$tmp/d.jpg"
+expect_exit 1 "film too large for memory" "$tex" render "$scene" --spp 1 --res 65536x65536 -q -o "$tmp/huge.exr"
+echo "$out" | grep -q "out of memory" || fail "a film too large for memory is not a clear error: $out"
+printf ')\n1 + 2\n' > "$tmp/repl.in"
+out=$("$tex" repl < "$tmp/repl.in" 2>&1)
+rc=$?
+[ "$rc" -lt 128 ] || fail "repl crashed (exit $rc) on input that does not parse: $out"
+echo "$out" | grep -q "3 : Int" || fail "repl did not carry on after a syntax error: $out"
+cat > "$tmp/boolparam.json" <<JSON
+{"shapes": [{"type": "quad", "size": [2, 2], "material": "W"}],
+ "materials": [{"match": {"material": "W"}, "file": "$src/scenes/cornell.tex", "entry": "wall", "params": {"albedo": true}}]}
+JSON
+expect_exit 1 "Bool for a Spectrum parameter" "$tex" render "$tmp/boolparam.json" --spp 1 --res 8x8 -q -o "$tmp/x.exr"
+echo "$out" | grep -q "a Spectrum is needed" || fail "a Bool Spectrum parameter is not an error: $out"
 
 [ "$failures" = 0 ] && echo "ok: tex render CLI" || exit 1

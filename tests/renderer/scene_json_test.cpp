@@ -112,7 +112,7 @@ TEST(SceneJson, FixtureLoadsEverySection) {
   EXPECT_EQ(scene->settings.rouletteDepth, 6);
   EXPECT_EQ(scene->settings.wavelengths, 8);
   EXPECT_EQ(scene->settings.seed, 7u);
-  EXPECT_EQ(scene->settings.integrator, "bdpt");
+  EXPECT_EQ(scene->settings.integrator, "path");
 }
 
 TEST(SceneJson, GltfTransformsApplyToEveryNode) {
@@ -139,6 +139,18 @@ TEST(SceneJson, DuplicateKeyIsAnError) {
   const std::string error = firstError("{\"render\": {\"spp\": 4,\n \"spp\": 8}}");
   EXPECT_EQ(error.rfind("scene.json:2:2: ", 0), 0u) << error;
   EXPECT_NE(error.find("duplicate key \"spp\""), std::string::npos) << error;
+}
+
+// Values the renderer would not honour are errors, not silently replaced: an integrator it
+// does not have, and an rgb "as" it does not know.
+TEST(SceneJson, UnknownIntegratorAndRgbUseAreErrors) {
+  const std::string integrator = firstError("{\"render\": {\"integrator\": \"bdpt\"}}");
+  EXPECT_NE(integrator.find("unknown integrator \"bdpt\" (available: path)"), std::string::npos) << integrator;
+  const std::string as = firstError(
+      "{\"materials\": [{\"match\": {\"material\": \"m\"}, \"file\": \"walls.tex\", \"entry\": \"e\",\n"
+      " \"params\": {\"s\": {\"rgb\": [1, 1, 1], \"as\": \"light\"}}}]}");
+  EXPECT_EQ(as.rfind("scene.json:2:", 0), 0u) << as;
+  EXPECT_NE(as.find("\"as\" must be"), std::string::npos) << as;
 }
 
 TEST(SceneJson, UnknownKeyNamesItsPositionAndSuggests) {
