@@ -69,6 +69,12 @@ struct Walker {
   // By reference: a by-value Lobe was copied once more through the stack, its 16-byte loads
   // stalling on the byte and float stores that had just built it.
   void addLobe(Lobe& lobe) {
+    // A non-finite colour or weight (a NaN albedo from the material's code) is a failed
+    // evaluation, counted and reported, not a lobe (it used to render black silently).
+    if (lobe.weight.hasNaNOrInf()) {
+      result.ok = false;
+      return;
+    }
     if (lobe.weight.isBlack()) return;
     lobe.underCoat = underCoat;
     if (!bsdf->add(lobe)) result.ok = false;

@@ -180,6 +180,11 @@ bool compileBindings(const SceneDescription& scene, int wavelengths, bool quick,
       problems += where + ": error: '" + b.file + "' has no exported, annotated function '" + b.entry + "'\n";
       continue;
     }
+    if (!decl->item->exported) {  // else the generated wrapper's import fails, naming itself
+      problems += where + ": error: '" + b.file + "' defines '" + b.entry + "' but does not export it (write `export fn " +
+                  b.entry + "`)\n";
+      continue;
+    }
     const auto& params = decl->item->params;
     if (paramTypes.empty() || paramTypes[0] != lang::TypeTable::global().hit() || !resultType ||
         resultType->kind != lang::TypeKind::Material) {

@@ -116,4 +116,17 @@ JSON
 expect_exit 1 "Bool for a Spectrum parameter" "$tex" render "$tmp/boolparam.json" --spp 1 --res 8x8 -q -o "$tmp/x.exr"
 echo "$out" | grep -q "a Spectrum is needed" || fail "a Bool Spectrum parameter is not an error: $out"
 
+printf 'fn wall(h: Hit) -> Material = diffuse(rgb(0.5))\n' > "$tmp/private.tex"
+cat > "$tmp/private.json" <<JSON
+{"shapes": [{"type": "quad", "size": [2, 2], "material": "W"}],
+ "materials": [{"match": {"material": "W"}, "file": "private.tex", "entry": "wall"}]}
+JSON
+expect_exit 1 "entry not exported" "$tex" render "$tmp/private.json" --spp 1 --res 8x8 -q -o "$tmp/x.exr"
+echo "$out" | grep -q "private.tex' defines 'wall' but does not export it" || fail "a private entry is not named: $out"
+
+printf 'export fn wall(h: Hit) -> Material = diffuse(spectrum(0.0 / 0.0))\n' > "$tmp/nanalbedo.tex"
+sed 's/private.tex/nanalbedo.tex/' "$tmp/private.json" > "$tmp/nanalbedo.json"
+expect_exit 0 "NaN albedo" "$tex" render "$tmp/nanalbedo.json" --spp 1 --res 8x8 -o "$tmp/x.exr"
+echo "$out" | grep -q "material evaluation failures" || fail "a NaN albedo is not reported: $out"
+
 [ "$failures" = 0 ] && echo "ok: tex render CLI" || exit 1
