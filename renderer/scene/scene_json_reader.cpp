@@ -130,7 +130,15 @@ bool SceneJsonReader::number(const JsonAt& object, const char* key, float& out, 
   if (!at.j->is_number()) return error(at, "expected a number, got " + typeName(*at.j)), false;
   const double v = at.j->get<double>();
   if (!std::isfinite(v) || v < min || v > max) {
-    std::string range = std::isinf(max) ? ">= " + std::to_string(min) : "in [" + std::to_string(min) + ", " + std::to_string(max) + "]";
+    const auto text = [](float x) {
+      char buf[32];
+      std::snprintf(buf, sizeof(buf), "%g", double(x));
+      return std::string(buf);
+    };
+    // A tiny positive minimum (1e-30) stands for "greater than 0".
+    const std::string lower = min > 0.0f && min <= 1e-20f ? "> 0" : ">= " + text(min);
+    std::string range = std::isinf(max) ? lower : "in [" + text(min) + ", " + text(max) + "]";
+    if (min > 0.0f && min <= 1e-20f && !std::isinf(max)) range = "in (0, " + text(max) + "]";
     if (std::isinf(min) && std::isinf(max)) range = "finite";
     return error(at, "must be " + range), false;
   }
