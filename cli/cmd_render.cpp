@@ -10,6 +10,7 @@
 #include "cli/option_values.h"
 #include "renderer/film/film_sink.h"
 #include "renderer/integrators/path_tracer.h"
+#include "renderer/lights/image_environment.h"
 #include "renderer/integrators/render_scene.h"
 #include "renderer/io/sample_file.h"
 #include "renderer/sampling/hash.h"
@@ -228,6 +229,10 @@ int runRender(const Args& args) {
     return fail(error.rfind(f.scene, 0) == 0 ? error : f.scene + ": " + error);
   }
 
+  for (size_t i = 0; i < scene.lights.size() && i < rs->lights().size(); ++i)
+    if (const auto* env = dynamic_cast<const render::ImageEnvironment*>(rs->lights()[i]); env && env->droppedPixels() > 0)
+      std::fprintf(stderr, "tex render: warning: %s: %llu pixels are NaN, infinite or negative; they emit nothing\n",
+                   scene.lights[i].imagePath.c_str(), (unsigned long long)env->droppedPixels());
   if (rs->addedDefaultLight())
     std::fprintf(stderr, "tex render: note: %s has no lights; lighting it with a uniform white sky of radiance 1\n",
                  f.scene.c_str());

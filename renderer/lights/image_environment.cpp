@@ -1,5 +1,7 @@
 #include "renderer/lights/image_environment.h"
 
+#include <atomic>
+
 #include <algorithm>
 #include <cmath>
 
@@ -34,13 +36,17 @@ ImageEnvironment::ImageEnvironment(const RgbImage& image, const Mat4& environmen
   fitted_.resize(pixels);
   luminance_.resize(pixels);
   // Each pixel on its own: the result does not depend on the thread count.
+  std::atomic<uint64_t> dropped{0};
   tbb::parallel_for(tbb::blocked_range<size_t>(0, pixels, 4096), [&](const tbb::blocked_range<size_t>& range) {
     for (size_t i = range.begin(); i != range.end(); ++i) {
       Vec3 c;
+      bool broken = false;
       for (int k = 0; k < 3; ++k) {
         const float v = valid ? image.rgb[i * 3 + k] * scale : 0.0f;
+        broken = broken || !std::isfinite(v) || v < 0.0f;
         c[k] = std::isfinite(v) && v > 0.0f ? v : 0.0f;  // negative or broken pixels emit nothing
       }
+      if (broken) dropped.fetch_add(1, std::memory_order_relaxed);
       fitted_[i] = rgbToUnbounded(c);
       luminance_[i] = std::max(0.0f, luminanceOf(c));
     }
@@ -54,6 +60,7 @@ ImageEnvironment::ImageEnvironment(const RgbImage& image, const Mat4& environmen
     rowWeights[size_t(y)] = float(columns_.back().total()) * dCos;
   }
   rows_ = PiecewiseConstant1D(rowWeights);
+  droppedPixels_ = dropped.load();
   // Each pixel spans (2 pi / width) in phi.
   luminanceIntegral_ = float(rows_.total() * 2.0 * double(kPi) / double(std::max(width_, 1)));
 }

@@ -33,6 +33,8 @@ class ImageEnvironment final : public Light {
 
   // Luminance integrated over the sphere (W/m^2/sr * sr, luminance units).
   float luminanceIntegral() const { return luminanceIntegral_; }
+  // Pixels with a NaN, infinite or negative channel (they emit nothing), for a warning.
+  uint64_t droppedPixels() const { return droppedPixels_; }
 
  private:
   struct Pixel {
@@ -54,6 +56,7 @@ class ImageEnvironment final : public Light {
   PiecewiseConstant1D rows_;                  // weight: sum of luminance x (cos theta0 - cos theta1)
   std::vector<PiecewiseConstant1D> columns_;  // per row, weight: luminance
   float luminanceIntegral_ = 0;
+  uint64_t droppedPixels_ = 0;
   SceneSphere sphere_;
 };
 

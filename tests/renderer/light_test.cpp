@@ -727,3 +727,26 @@ TEST(Light, NoNaNAtGrazingAnglesOrDegenerateInputs) {
 
 }  // namespace
 }  // namespace tex::render
+
+namespace tex::render {
+namespace {
+
+// Pixels that cannot emit (NaN, infinite, negative) emit nothing and are counted, so that
+// `tex render` can warn about them instead of dropping them silently.
+TEST(ImageEnvironmentLight, BrokenPixelsEmitNothingAndAreCounted) {
+  RgbImage image;
+  image.width = 4;
+  image.height = 2;
+  image.rgb.assign(4 * 2 * 3, 0.5f);
+  image.rgb[0] = std::numeric_limits<float>::quiet_NaN();  // pixel 0
+  image.rgb[4] = std::numeric_limits<float>::infinity();   // pixel 1
+  image.rgb[8] = -1.0f;                                     // pixel 2
+  image.rgb[9] = -2.0f;                                     // still pixel 2
+  const ImageEnvironment env(image, Mat4(1.0f));
+  EXPECT_EQ(env.droppedPixels(), 3u);
+  image.rgb.assign(4 * 2 * 3, 0.5f);
+  EXPECT_EQ(ImageEnvironment(image, Mat4(1.0f)).droppedPixels(), 0u);
+}
+
+}  // namespace
+}  // namespace tex::render
