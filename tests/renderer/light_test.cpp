@@ -741,7 +741,7 @@ TEST(ImageEnvironmentLight, BrokenPixelsEmitNothingAndAreCounted) {
   image.rgb[0] = std::numeric_limits<float>::quiet_NaN();  // pixel 0
   image.rgb[4] = std::numeric_limits<float>::infinity();   // pixel 1
   image.rgb[8] = -1.0f;                                     // pixel 2
-  image.rgb[9] = -2.0f;                                     // still pixel 2
+  image.rgb[7] = -2.0f;                                     // still pixel 2
   const ImageEnvironment env(image, Mat4(1.0f));
   EXPECT_EQ(env.droppedPixels(), 3u);
   image.rgb.assign(4 * 2 * 3, 0.5f);
