@@ -34,6 +34,12 @@ struct RenderScene::Emission final : EmissionSource {
   }
   float averageRadiance() const override { return materials->averageEmission(material); }
   bool readsHit() const override { return readsHit_; }
+  float radianceEstimate(const EmitterPoint& point) const override {
+    if (!readsHit_) return averageRadiance();
+    // The wavelength group MaterialSystem probes materials with, for a deterministic estimate.
+    const Wavelengths& probe = materials->probeWavelengths();
+    return radiance(point, probe).average(probe.count);
+  }
 };
 
 RenderScene::~RenderScene() = default;

@@ -77,6 +77,12 @@ class EmissionSource {
   // Whether the radiance may depend on more than the point's position, normal and uv (then
   // lights pass EmitterPoint's place on the geometry, which costs a few operations).
   virtual bool readsHit() const { return false; }
+  // A luminance-like scalar of the radiance at one point (light selection by power for
+  // emitters that vary over their surface); by default the surface's average.
+  virtual float radianceEstimate(const EmitterPoint& point) const {
+    (void)point;
+    return averageRadiance();
+  }
 };
 
 class Light {

@@ -38,6 +38,7 @@ struct MaterialSystem::Impl {
   // Per material slot: an unbound glTF material that reads no texture (gltfReadsHit), so
   // shade() may replay the path's earlier evaluation from the memo (material_memo.h).
   std::vector<uint8_t> gltfHitIndependent;
+  Wavelengths probe;  // the fixed group materials are probed with
   std::vector<float> averageEmission;  // per material slot
   // Per binding: its closure tree when constant (closure_lobes.h), else an empty tree.
   std::vector<ConstantClosure> constantClosures;
@@ -119,6 +120,7 @@ std::unique_ptr<MaterialSystem> MaterialSystem::create(const SceneDescription& s
     ms->report_.compileMs += im.gltfMaterial.compileMs;
   }
   const Wavelengths probe = color::sampleWavelengthGroup(0.5f, options.wavelengths);
+  im.probe = probe;
   // Bindings whose tree is the same at every hit and wavelength group: captured once here.
   im.constantClosures.resize(im.compiled.bindings.size());
   for (size_t b = 0; b < im.compiled.bindings.size(); ++b) {
@@ -266,6 +268,8 @@ bool MaterialSystem::readsPixelFootprint(int material) const {
   if (binding >= 0) return !im.compiled.bindings[size_t(binding)].hitIndependent;
   return false;  // glTF materials look their textures up bilinearly at the finest level
 }
+
+const Wavelengths& MaterialSystem::probeWavelengths() const { return impl_->probe; }
 
 bool MaterialSystem::readsHit(int material) const {
   const Impl& im = *impl_;

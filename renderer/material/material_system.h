@@ -66,6 +66,8 @@ class MaterialSystem {
   // Whether shading or emission of `material` may depend on the ShadingPoint at all (false for
   // Hit-independent .tex materials, glTF materials without textures and the default grey).
   bool readsHit(int material) const;
+  // The fixed wavelength group materials are probed with (averageEmission, light power).
+  const Wavelengths& probeWavelengths() const;
   bool emitsBothSides(int material) const;
   // The texture coordinate set area lights of `material` give its emission as ShadingPoint::uv
   // (and uv1): 1 for a glTF material whose emissive texture reads TEXCOORD_1, else 0.

@@ -437,6 +437,24 @@ TEST(PathTracer, HitDependentEmittersLookTheSameToLightSamplesAndToRays) {
   }
 }
 
+// Light selection by power sees where a Hit-dependent emitter is bright: each triangle's power
+// comes from its own radiance (plus a tenth of the material's average, so that none is left
+// out). Here the emission grows with u, and the quad's two triangles cover u on average 1/3 and
+// 2/3: their selection probabilities differ (they were equal, from the material's average).
+TEST(PathTracer, TrianglesOfAPatternedEmitterAreChosenByTheirOwnPower) {
+  const std::string file =
+      writeTexModule("patterned_emitter", "export fn lamp(h: Hit) -> Material = emission(rgb(h.uv.x * 4.0))\n");
+  SceneDescription scene = oneObjectScene(makeQuad(Vec3(-1.0f, -1.0f, 0.0f), Vec3(2.0f, 0.0f, 0.0f), Vec3(0.0f, 2.0f, 0.0f)),
+                                          file, "lamp", Vec3(0.0f, 0.0f, 3.0f));
+  const std::unique_ptr<RenderScene> rs = buildSquare(scene, 8);
+  ASSERT_TRUE(rs);
+  ASSERT_EQ(rs->lightSampler().size(), 2);
+  const float a = rs->lightSampler().pmf(0), b = rs->lightSampler().pmf(1);
+  const float ratio = std::max(a, b) / std::min(a, b);
+  // Expected (0.9 * 2/3 + 0.1 * 1/2) / (0.9 * 1/3 + 0.1 * 1/2) = 1.857 (four interior points).
+  EXPECT_NEAR(ratio, 1.857f, 0.05f);
+}
+
 TEST(PathTracer, SpectralFurnaceDevelopsToTheIlluminantsColourAndIsThreadCountIndependent) {
   // An albedo-1 diffuse sphere under a D65 sky of luminance 1 (RGB (1,1,1) as an illuminant)
   // develops to linear sRGB (1,1,1); 1 and 2 threads give the same fixed-point film sums.
