@@ -157,6 +157,14 @@ int runEval(const Args& args) {
                  o.function.c_str(), decl->item->params.size());
     return 1;
   }
+  std::vector<const lang::Type*> paramTypes;
+  const lang::Type* declaredResult = nullptr;
+  if (session.signature(decl, paramTypes, declaredResult) && paramTypes.size() == 1 && paramTypes[0] &&
+      paramTypes[0] != hitType) {
+    std::fprintf(stderr, "tex eval: error: '%s' takes a %s; eval needs a function of one Hit (h: Hit)\n",
+                 o.function.c_str(), lang::typeName(paramTypes[0]).c_str());
+    return 1;
+  }
   int fn = session.instantiate(module, o.function, {hitType}, decl->item->nameSpan);
   if (fn < 0 || session.diags().hasErrors()) {
     printDiagnostics(session);

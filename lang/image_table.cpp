@@ -39,7 +39,8 @@ ImageLoadResult ImageTable::load(const std::string& rawPath, bool data) {
   auto status = fs::status(path, ec);
   if (ec || !fs::is_regular_file(status)) {
     result.code = "E0420";
-    result.message = "image file '" + rawPath + "' not found";
+    result.message = !ec && fs::is_directory(status) ? "image file '" + rawPath + "' is a directory"
+                                                     : "image file '" + rawPath + "' not found";
     return result;
   }
   uint64_t bytes = fs::file_size(path, ec);

@@ -1,6 +1,7 @@
 #include "renderer/scene/load_scene.h"
 
 #include <algorithm>
+#include <filesystem>
 
 #include "renderer/scene/gltf_loader.h"
 #include "renderer/scene/scene_json.h"
@@ -30,6 +31,11 @@ std::optional<SceneDescription> loadScene(const std::string& path, std::string& 
   const std::string ext = lowerExtension(path);
   std::vector<std::string> errors;
   std::optional<SceneDescription> scene;
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) {
+    error = path + ": is a directory, not a scene file";
+    return std::nullopt;
+  }
   if (ext == ".gltf" || ext == ".glb") scene = loadGltf(path, errors);
   else if (ext == ".json") scene = loadSceneJson(path, errors);
   else errors.push_back(path + ": unknown scene file type \"" + ext + "\" (expected .gltf, .glb or .json)");

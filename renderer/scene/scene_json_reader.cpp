@@ -129,7 +129,7 @@ bool SceneJsonReader::number(const JsonAt& object, const char* key, float& out, 
   if (!at) return true;
   if (!at.j->is_number()) return error(at, "expected a number, got " + typeName(*at.j)), false;
   const double v = at.j->get<double>();
-  if (!std::isfinite(v) || v < min || v > max) {
+  if (!std::isfinite(v) || !std::isfinite(float(v)) || v < min || v > max) {
     const auto text = [](float x) {
       char buf[32];
       std::snprintf(buf, sizeof(buf), "%g", double(x));
@@ -193,6 +193,8 @@ bool SceneJsonReader::vector(const JsonAt& at, int minSize, int maxSize, std::ve
     const auto& e = (*at.j)[i];
     if (!e.is_number() || !std::isfinite(e.get<double>()))
       return error(element(at, i), "expected a finite number, got " + typeName(e)), false;
+    if (!std::isfinite(float(e.get<double>())))  // 1e39 is finite as JSON, not as a float
+      return error(element(at, i), "is beyond the float range (about 3.4e38)"), false;
     out.push_back(float(e.get<double>()));
   }
   return true;
