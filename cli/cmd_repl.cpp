@@ -277,10 +277,14 @@ class Repl {
       bool ok = false;
       if (key == "uv") ok = parseFloats(value, next.uv, 2, count) && count == 2;
       else if (key == "p") ok = parseFloats(value, next.p, 3, count) && count == 3;
-      else if (key == "n") ok = parseFloats(value, next.n, 3, count) && count == 3;
-      else if (key == "lambda") {
+      else if (key == "n") {
+        // A normal must have a direction (a zero vector is no normal).
+        ok = parseFloats(value, next.n, 3, count) && count == 3 &&
+             next.n[0] * next.n[0] + next.n[1] * next.n[1] + next.n[2] * next.n[2] > 0.0f;
+      } else if (key == "lambda") {
         ok = parseFloats(value, next.group.lambdaNm, lang::kMaxLanes, count);
         next.group.count = count;
+        for (int i = 0; i < count && ok; ++i) ok = next.group.lambdaNm[i] > 0.0f;  // wavelengths in nm are positive
       }
       if (!ok) {
         std::fprintf(stderr, ":hit: cannot read '%s' (see :help)\n", token.c_str());
