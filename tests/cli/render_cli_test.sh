@@ -18,6 +18,15 @@ expect_exit() {
   [ "$rc" = "$want" ] || fail "$what: exit $rc, expected $want: $(echo "$out" | tail -c 300)"
 }
 
+# quad_scene OUT.json TEX_FILE ENTRY [PARAMS]: a scene of one quad whose material is a .tex entry.
+quad_scene() {
+  local params=${4:+, \"params\": $4}
+  cat > "$1" <<JSON
+{"shapes": [{"type": "quad", "size": [2, 2], "material": "W"}],
+ "materials": [{"match": {"material": "W"}, "file": "$2", "entry": "$3"$params}]}
+JSON
+}
+
 scene=$src/scenes/cornell-box.json
 expect_exit 0 "render 1 thread" "$tex" render "$scene" --spp 2 --res 32x32 --threads 1 --seed 3 -q -o "$tmp/a.exr"
 expect_exit 0 "render 2 threads" "$tex" render "$scene" --spp 2 --res 32x32 --threads 2 --seed 3 -q -o "$tmp/b.exr" --samples-out "$tmp/s.samples"
@@ -86,10 +95,7 @@ printf '{\n  "render": {"spp": 4,,}\n}\n' > "$tmp/bad.json"
 expect_exit 1 "malformed JSON" "$tex" render "$tmp/bad.json" -o "$tmp/x.exr"
 echo "$out" | grep -q "bad.json:2:" || fail "malformed JSON error has no line: $out"
 printf 'export fn wall(h: Hit) -> Material = diffuse(rgb(1.0, 0.0))\n' > "$tmp/broken.tex"
-cat > "$tmp/badtex.json" <<JSON
-{"shapes": [{"type": "quad", "size": [2, 2], "material": "W"}],
- "materials": [{"match": {"material": "W"}, "file": "broken.tex", "entry": "wall"}]}
-JSON
+quad_scene "$tmp/badtex.json" broken.tex wall
 expect_exit 1 "broken .tex material" "$tex" render "$tmp/badtex.json" -o "$tmp/x.exr"
 echo "$out" | grep -q "broken.tex:1:" || fail "material error has no file:line: $out"
 head -c 3000 "$src/scenes/cornell-box.gltf" > "$tmp/trunc.gltf"
@@ -109,23 +115,17 @@ out=$("$tex" repl < "$tmp/repl.in" 2>&1)
 rc=$?
 [ "$rc" -lt 128 ] || fail "repl crashed (exit $rc) on input that does not parse: $out"
 echo "$out" | grep -q "3 : Int" || fail "repl did not carry on after a syntax error: $out"
-cat > "$tmp/boolparam.json" <<JSON
-{"shapes": [{"type": "quad", "size": [2, 2], "material": "W"}],
- "materials": [{"match": {"material": "W"}, "file": "$src/scenes/cornell.tex", "entry": "wall", "params": {"albedo": true}}]}
-JSON
+quad_scene "$tmp/boolparam.json" "$src/scenes/cornell.tex" wall '{"albedo": true}'
 expect_exit 1 "Bool for a Spectrum parameter" "$tex" render "$tmp/boolparam.json" --spp 1 --res 8x8 -q -o "$tmp/x.exr"
 echo "$out" | grep -q "a Spectrum is needed" || fail "a Bool Spectrum parameter is not an error: $out"
 
 printf 'fn wall(h: Hit) -> Material = diffuse(rgb(0.5))\n' > "$tmp/private.tex"
-cat > "$tmp/private.json" <<JSON
-{"shapes": [{"type": "quad", "size": [2, 2], "material": "W"}],
- "materials": [{"match": {"material": "W"}, "file": "private.tex", "entry": "wall"}]}
-JSON
+quad_scene "$tmp/private.json" private.tex wall
 expect_exit 1 "entry not exported" "$tex" render "$tmp/private.json" --spp 1 --res 8x8 -q -o "$tmp/x.exr"
 echo "$out" | grep -q "private.tex' defines 'wall' but does not export it" || fail "a private entry is not named: $out"
 
 printf 'export fn wall(h: Hit) -> Material = diffuse(spectrum(0.0 / 0.0))\n' > "$tmp/nanalbedo.tex"
-sed 's/private.tex/nanalbedo.tex/' "$tmp/private.json" > "$tmp/nanalbedo.json"
+quad_scene "$tmp/nanalbedo.json" nanalbedo.tex wall
 expect_exit 0 "NaN albedo" "$tex" render "$tmp/nanalbedo.json" --spp 1 --res 8x8 -o "$tmp/x.exr"
 echo "$out" | grep -q "material evaluation failures" || fail "a NaN albedo is not reported: $out"
 
