@@ -12,6 +12,7 @@
 #include "cli/option_values.h"
 #include "cli/options.h"
 #include "cli/texture_evaluator.h"
+#include "runtime/progress.h"
 #include "lang/interpreter.h"
 #include "lang/session.h"
 #include "renderer/color/spectral_to_rgb.h"
@@ -196,6 +197,9 @@ int runEval(const Args& args) {
   if (o.threads > 0)
     limit = std::make_unique<oneapi::tbb::global_control>(oneapi::tbb::global_control::max_allowed_parallelism, size_t(o.threads));
   const float du = 1.0f / float(o.width), dv = 1.0f / float(o.height);
+  // Large images take a while: progress every few seconds (pixels as samples), quiet otherwise.
+  runtime::ProgressReporter progress("tex eval", uint64_t(o.width) * uint64_t(o.height));
+  progress.start();
   oneapi::tbb::parallel_for(0, o.height, [&](int y) {
     for (int x = 0; x < o.width; ++x) {
       color::Rgb rgb = pixelRgb(*evaluator, hitAt((float(x) + 0.5f) * du, (float(y) + 0.5f) * dv, du, dv));
@@ -209,7 +213,9 @@ int runEval(const Args& args) {
         out[k] = c[k];
       }
     }
+    progress.add(uint64_t(o.width));
   });
+  progress.finish(true);
   for (size_t n : nonFiniteRows) nonFinite += n;
   double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::string err = writeRgbImage(o.output, image, {{"tex:source", o.file}, {"tex:function", o.function}});

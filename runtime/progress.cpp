@@ -59,6 +59,7 @@ std::string ProgressReporter::formatLine(uint64_t done, uint64_t total, double s
 }
 
 void ProgressReporter::print(bool final) {
+  reported_ = true;
   const std::string line = formatLine(done(), total_, elapsedSeconds(), final ? 0.0 : timeBudgetSeconds_);
   if (tty_) {
     std::fprintf(out_, "\r%s: %s\033[K%s", label_.c_str(), line.c_str(), final ? "\n" : "");
@@ -74,7 +75,7 @@ void ProgressReporter::loop() {
   while (!wake_.wait_for(lock, period, [this] { return stop_; })) print(false);
 }
 
-void ProgressReporter::finish() {
+void ProgressReporter::finish(bool onlyIfReported) {
   if (!started_) return;
   {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -82,7 +83,7 @@ void ProgressReporter::finish() {
   }
   wake_.notify_all();
   if (thread_.joinable()) thread_.join();
-  print(true);
+  if (!onlyIfReported || reported_) print(true);
   started_ = false;
 }
 

@@ -22,8 +22,9 @@ class ProgressReporter {
 
   void start();
   void add(uint64_t samples) { done_.fetch_add(samples, std::memory_order_relaxed); }
-  // Stops the thread and prints the final line.
-  void finish();
+  // Stops the thread and prints the final line (with onlyIfReported, only when a progress
+  // line was printed before: short runs whose caller prints its own summary stay quiet).
+  void finish(bool onlyIfReported = false);
 
   uint64_t done() const { return done_.load(std::memory_order_relaxed); }
   double elapsedSeconds() const;
@@ -48,6 +49,7 @@ class ProgressReporter {
   std::condition_variable wake_;
   bool stop_ = false;
   bool started_ = false;
+  bool reported_ = false;  // a progress line was printed (loop thread; read after join)
 };
 
 }  // namespace tex::runtime

@@ -3,6 +3,8 @@
 // stop or order work as documented.
 #include <gtest/gtest.h>
 
+#include <cstdio>
+
 #include <atomic>
 #include <chrono>
 #include <csignal>
@@ -272,6 +274,23 @@ TEST(Progress, FormatsRateAndEta) {
   silent.add(2);
   EXPECT_EQ(silent.done(), 42u);
   silent.finish();
+}
+
+// finish(true) prints the final line only after a progress line: a short run whose caller
+// prints its own summary (tex eval) stays quiet; finish() always closes with one.
+TEST(Progress, FinishOnlyIfReportedStaysQuietOnShortRuns) {
+  for (bool onlyIfReported : {true, false}) {
+    FILE* out = std::tmpfile();
+    ASSERT_NE(out, nullptr);
+    ProgressReporter quick("test", 100, 0, out);
+    quick.start();
+    quick.add(100);
+    quick.finish(onlyIfReported);
+    const long written = std::ftell(out);
+    std::fclose(out);
+    if (onlyIfReported) EXPECT_EQ(written, 0L);
+    else EXPECT_GT(written, 0L);
+  }
 }
 
 TEST(IndexRanges, MergeOverlapAndFormat) {
