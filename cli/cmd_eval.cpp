@@ -3,6 +3,7 @@
 #include <oneapi/tbb/global_control.h>
 #include <oneapi/tbb/parallel_for.h>
 
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -12,6 +13,7 @@
 #include "cli/option_values.h"
 #include "cli/options.h"
 #include "cli/texture_evaluator.h"
+#include "runtime/cancellation.h"
 #include "runtime/progress.h"
 #include "lang/interpreter.h"
 #include "lang/session.h"
@@ -35,7 +37,8 @@ const char* kHelp =
     "  --threads N    worker threads (default: all cores)\n"
     "  --interp       use the reference interpreter instead of the JIT\n"
     "  --no-cache     do not read or write the compiled-code cache\n"
-    "  -I DIR         add DIR to the module search path\n";
+    "  -I DIR         add DIR to the module search path\n"
+    "Large images show progress; Ctrl-C stops and writes the partial image (exit 130).\n";
 
 struct Options {
   std::string file, function, output;
@@ -200,7 +203,11 @@ int runEval(const Args& args) {
   // Large images take a while: progress every few seconds (pixels as samples), quiet otherwise.
   runtime::ProgressReporter progress("tex eval", uint64_t(o.width) * uint64_t(o.height));
   progress.start();
+  // Ctrl-C stops at the next row; rows not evaluated stay black and the image is still written.
+  std::atomic<bool> cancel{false};
+  runtime::ScopedSigintCancellation sigint(cancel);
   oneapi::tbb::parallel_for(0, o.height, [&](int y) {
+    if (cancel.load(std::memory_order_relaxed)) return;
     for (int x = 0; x < o.width; ++x) {
       color::Rgb rgb = pixelRgb(*evaluator, hitAt((float(x) + 0.5f) * du, (float(y) + 0.5f) * dv, du, dv));
       float* out = &image.rgb[(size_t(y) * size_t(o.width) + size_t(x)) * 3];
@@ -230,11 +237,13 @@ int runEval(const Args& args) {
     std::snprintf(buf, sizeof buf, "JIT O1, compiled in %.1f ms%s", stats.milliseconds, stats.cacheHit ? " (cache hit)" : "");
     how = buf;
   }
-  std::fprintf(stderr, "tex eval: %s %dx%d in %.2f s (%.2f Mpixel/s, %s)\n", o.output.c_str(), o.width, o.height,
-               seconds, double(o.width) * o.height / seconds * 1e-6, how.c_str());
+  const bool interrupted = sigint.interrupted();
+  std::fprintf(stderr, "tex eval: %s %dx%d in %.2f s (%.2f Mpixel/s, %s)%s\n", o.output.c_str(), o.width, o.height,
+               seconds, double(progress.done()) / seconds * 1e-6, how.c_str(),
+               interrupted ? " (interrupted: rows not evaluated are black)" : "");
   if (nonFinite)
     std::fprintf(stderr, "tex eval: warning: %zu non-finite channel values (NaN/Inf) were written as 0\n", nonFinite);
-  return 0;
+  return interrupted ? 130 : 0;  // 128 + SIGINT, as tex render
 }
 
 }  // namespace

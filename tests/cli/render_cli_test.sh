@@ -129,4 +129,15 @@ quad_scene "$tmp/nanalbedo.json" nanalbedo.tex wall
 expect_exit 0 "NaN albedo" "$tex" render "$tmp/nanalbedo.json" --spp 1 --res 8x8 -o "$tmp/x.exr"
 echo "$out" | grep -q "material evaluation failures" || fail "a NaN albedo is not reported: $out"
 
+# tex eval: Ctrl-C keeps the partial image (exit 130), as tex render does.
+"$tex" eval "$src/scenes/marble.tex" --fn marble --size 8192x8192 -o "$tmp/eval_part.png" > "$tmp/e.log" 2>&1 &
+pid=$!
+sleep 2
+kill -INT "$pid"
+wait "$pid"
+rc=$?
+[ "$rc" = 130 ] || fail "interrupted eval exited $rc, expected 130: $(cat "$tmp/e.log")"
+grep -q "interrupted" "$tmp/e.log" || fail "no interruption note from eval: $(cat "$tmp/e.log")"
+[ -s "$tmp/eval_part.png" ] || fail "no partial image after Ctrl-C in eval"
+
 [ "$failures" = 0 ] && echo "ok: tex render CLI" || exit 1
