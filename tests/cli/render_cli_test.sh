@@ -18,6 +18,22 @@ expect_exit() {
   [ "$rc" = "$want" ] || fail "$what: exit $rc, expected $want: $(echo "$out" | tail -c 300)"
 }
 
+# expect_interrupted WHAT LOG IMAGE NOTE CMD...: runs CMD in the background, sends Ctrl-C (SIGINT)
+# after 2 s, and checks it stops cleanly: exit 130, NOTE in its output (LOG), IMAGE written.
+expect_interrupted() {
+  local what=$1 log=$2 image=$3 note=$4
+  shift 4
+  "$@" > "$log" 2>&1 &
+  local pid=$!
+  sleep 2
+  kill -INT "$pid"
+  wait "$pid"
+  local rc=$?
+  [ "$rc" = 130 ] || fail "interrupted $what exited $rc, expected 130: $(cat "$log")"
+  grep -q "$note" "$log" || fail "no interruption note from $what: $(cat "$log")"
+  [ -s "$image" ] || fail "no partial image after Ctrl-C in $what"
+}
+
 # quad_scene OUT.json TEX_FILE ENTRY [PARAMS]: a scene of one quad whose material is a .tex entry.
 quad_scene() {
   local params=${4:+, \"params\": $4}
@@ -68,15 +84,8 @@ echo "$out" | grep -q "time budget reached" || fail "no time-budget note in the 
 [ $(( $(date +%s) - start )) -lt 20 ] || fail "--time 1 ran far past its budget"
 [ -s "$tmp/t.exr" ] || fail "no image after a time-budget stop"
 # Ctrl-C (SIGINT) stops cleanly: the partial image is written and the exit status is 130.
-"$tex" render "$scene" --spp 100000 --res 64x64 -q -o "$tmp/i.exr" > "$tmp/i.log" 2>&1 &
-pid=$!
-sleep 2
-kill -INT "$pid"
-wait "$pid"
-rc=$?
-[ "$rc" = 130 ] || fail "interrupted render exited $rc, expected 130: $(cat "$tmp/i.log")"
-grep -q "interrupted: partial image" "$tmp/i.log" || fail "no interruption note: $(cat "$tmp/i.log")"
-[ -s "$tmp/i.exr" ] || fail "no partial image after Ctrl-C"
+expect_interrupted render "$tmp/i.log" "$tmp/i.exr" "interrupted: partial image" \
+  "$tex" render "$scene" --spp 100000 --res 64x64 -q -o "$tmp/i.exr"
 
 # Bad flags: usage errors (exit 2) that name the problem.
 expect_exit 2 "unknown flag" "$tex" render "$scene" --bogus
@@ -130,14 +139,7 @@ expect_exit 0 "NaN albedo" "$tex" render "$tmp/nanalbedo.json" --spp 1 --res 8x8
 echo "$out" | grep -q "material evaluation failures" || fail "a NaN albedo is not reported: $out"
 
 # tex eval: Ctrl-C keeps the partial image (exit 130), as tex render does.
-"$tex" eval "$src/scenes/marble.tex" --fn marble --size 8192x8192 -o "$tmp/eval_part.png" > "$tmp/e.log" 2>&1 &
-pid=$!
-sleep 2
-kill -INT "$pid"
-wait "$pid"
-rc=$?
-[ "$rc" = 130 ] || fail "interrupted eval exited $rc, expected 130: $(cat "$tmp/e.log")"
-grep -q "interrupted" "$tmp/e.log" || fail "no interruption note from eval: $(cat "$tmp/e.log")"
-[ -s "$tmp/eval_part.png" ] || fail "no partial image after Ctrl-C in eval"
+expect_interrupted eval "$tmp/e.log" "$tmp/eval_part.png" "interrupted" \
+  "$tex" eval "$src/scenes/marble.tex" --fn marble --size 8192x8192 -o "$tmp/eval_part.png"
 
 [ "$failures" = 0 ] && echo "ok: tex render CLI" || exit 1
