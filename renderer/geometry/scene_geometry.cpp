@@ -341,13 +341,12 @@ bool SceneGeometry::hasInstance(int instance) const {
   return instance >= 0 && size_t(instance) < impl_->instances.size() && impl_->instances[size_t(instance)].valid;
 }
 
-void SceneGeometry::triangleWorld(int instance, uint32_t triangle, Vec3 p[3], Vec2 uv[3], Vec3& ng, int uvSet) const {
+void SceneGeometry::triangleWorld(int instance, uint32_t triangle, Vec3 p[3], Vec2 uv[3], Vec3& ng) const {
   const Impl::Instance& inst = impl_->instances[size_t(instance)];
   uint32_t vi[3];
   impl_->worldVertices(inst, triangle, p, vi);
   const MeshPrimitive& prim = impl_->scene->primitives[size_t(inst.triangleData)];
-  const std::vector<Vec2>& uvs = uvSet == 1 && !prim.uv1.empty() ? prim.uv1 : prim.uv0;
-  for (int k = 0; k < 3; ++k) uv[k] = uvs.empty() ? Vec2(0.0f) : uvs[vi[k]];
+  for (int k = 0; k < 3; ++k) uv[k] = prim.uv0.empty() ? Vec2(0.0f) : prim.uv0[vi[k]];
   Vec3 n = glm::cross(p[1] - p[0], p[2] - p[0]);
   const float len = glm::length(n);
   ng = len > 0.0f ? n / len : Vec3(0.0f, 0.0f, 1.0f);

@@ -70,9 +70,9 @@ class SceneGeometry {
   // Instances are numbered as in SceneDescription::instances; skipped ones (no triangles, a
   // degenerate transform) are not in the BVH.
   bool hasInstance(int instance) const;
-  // World-space vertices of one triangle of an instance (for area lights), with the uv of
-  // texture coordinate set `uvSet` (0 or 1; set 1 falls back to set 0 where the mesh has none).
-  void triangleWorld(int instance, uint32_t triangle, Vec3 p[3], Vec2 uv[3], Vec3& ng, int uvSet = 0) const;
+  // World-space vertices of one triangle of an instance (for area lights), with their uv
+  // (TEXCOORD_0) and the face normal.
+  void triangleWorld(int instance, uint32_t triangle, Vec3 p[3], Vec2 uv[3], Vec3& ng) const;
   // What a ray hitting this instance's triangle at barycentrics (b1, b2) of its second and
   // third vertices would report (t = 0): for shading points sampled on lights.
   void surfaceAt(int instance, uint32_t triangle, float b1, float b2, SurfaceHit& hit) const {

@@ -209,7 +209,7 @@ Spectrum PathTracer::radiance(const sampling::IndexSampler& samples, const Ray& 
         const int li = scene_.areaLightAt(hit);
         float pdfLight = 0.0f;
         if (li >= 0) {
-          EmitterPoint ep{hit.p, hit.ng, hit.uv, hit.primitive};
+          EmitterPoint ep{hit.p, hit.ng, hit.primitive};
           pdfLight = lightSampler.pmf(li) * lights[size_t(li)]->pdfLi(prevP, ray.direction, &ep);
         }
         L += beta * Le * (spectralWeight * powerHeuristic(prevPdfW, pdfLight));

@@ -24,12 +24,10 @@ struct RenderScene::Emission final : EmissionSource {
       geometry->surfaceAt(point.instance, point.triangle, point.b12.x, point.b12.y, hit);
       return materials->emission(material, shadingPoint(hit), lambda);
     }
+    // Otherwise the emission does not depend on the point (position and normal for form's sake).
     ShadingPoint sp;
     sp.p = point.p;
     sp.ng = sp.ns = point.n;
-    // The light carries the uv set its emission reads (RenderScene::build): glTF's emissive
-    // texture may use TEXCOORD_1.
-    sp.uv = sp.uv1 = point.uv;
     return materials->emission(material, sp, lambda);
   }
   float averageRadiance() const override { return materials->averageEmission(material); }
@@ -139,19 +137,15 @@ std::unique_ptr<RenderScene> RenderScene::build(const SceneDescription& scene, c
     rs->areaLightBase_[size_t(i)] = int64_t(rs->lights_.size());
     const EmissionSource* source = emissionFor(material);
     const uint32_t triangles = uint32_t(prim->indices.size() / 3);
-    const int uvSet = rs->materials_->emissionUvSet(material);
     for (uint32_t t = 0; t < triangles; ++t) {
       TriangleLightDesc d;
       Vec3 p[3];
       Vec2 uv[3];
       Vec3 ng;
-      rs->geometry_->triangleWorld(i, t, p, uv, ng, uvSet);
+      rs->geometry_->triangleWorld(i, t, p, uv, ng);
       d.p0 = p[0];
       d.p1 = p[1];
       d.p2 = p[2];
-      d.uv0 = uv[0];
-      d.uv1 = uv[1];
-      d.uv2 = uv[2];
       d.normal = ng;
       d.primitive = scene.instances[size_t(i)].primitive;
       d.instance = i;

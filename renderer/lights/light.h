@@ -35,7 +35,6 @@ struct LightLiSample {
   bool delta = false;  // a Dirac light: no MIS with BSDF sampling
   // From Light::sampleLiDeferred: L is not evaluated yet (Light::deferredRadiance gives it).
   bool radianceDeferred = false;
-  Vec2 uvLight{0.0f};  // texture coordinates at pLight (area lights)
 };
 
 struct LightLeSample {
@@ -55,7 +54,6 @@ struct SceneSphere {
 // Where an emitted radiance is evaluated: a point on an emissive surface with its geometry.
 struct EmitterPoint {
   Vec3 p, n;   // position and the emitting side's normal
-  Vec2 uv;     // texture coordinates (for textured emission)
   int primitive = -1;
   // Where the point is on the scene's geometry (area lights), so that an emission that reads
   // its Hit sees what a ray hitting this point would: instance, triangle and the barycentrics
@@ -74,8 +72,8 @@ class EmissionSource {
   virtual Spectrum radiance(const EmitterPoint& point, const Wavelengths& lambda) const = 0;
   // Luminance-like scalar for choosing lights by power (average over the surface).
   virtual float averageRadiance() const = 0;
-  // Whether the radiance may depend on more than the point's position, normal and uv (then
-  // lights pass EmitterPoint's place on the geometry, which costs a few operations).
+  // Whether the radiance may depend on the shading point (then lights pass EmitterPoint's place
+  // on the geometry, which costs a few operations; otherwise the point does not matter).
   virtual bool readsHit() const { return false; }
   // A luminance-like scalar of the radiance at one point (light selection by power for
   // emitters that vary over their surface); by default the surface's average.

@@ -45,7 +45,6 @@ T interpolate(const T& a0, const T& a1, const T& a2, Vec2 b) {
 EmitterPoint TriangleLight::pointAt(Vec2 b) const {
   EmitterPoint e;
   e.p = interpolate(desc_.p0, desc_.p1, desc_.p2, b);
-  e.uv = interpolate(desc_.uv0, desc_.uv1, desc_.uv2, b);
   e.n = n_;
   e.primitive = desc_.primitive;
   if (emissionReadsHit_) placeOnGeometry(e, b);
@@ -110,7 +109,6 @@ std::optional<LightLiSample> TriangleLight::sampleLiDeferred(const Vec3& refPoin
   }
   LightLiSample& s = *result;
   s.radianceDeferred = true;
-  s.uvLight = interpolate(desc_.uv0, desc_.uv1, desc_.uv2, b);
   s.wi = wi;
   s.pLight = pLight;
   s.pLightError = pointError_;
@@ -124,7 +122,6 @@ Spectrum TriangleLight::deferredRadiance(const LightLiSample& sample, const Wave
   if (!sample.radianceDeferred) return sample.L;
   EmitterPoint e;
   e.p = sample.pLight;
-  e.uv = sample.uvLight;
   e.n = n_;
   e.primitive = desc_.primitive;
   if (emissionReadsHit_) placeOnGeometry(e, barycentricsOf(sample.pLight));

@@ -10,7 +10,6 @@ namespace tex::render {
 
 struct TriangleLightDesc {
   Vec3 p0{0.0f}, p1{0.0f}, p2{0.0f};  // world space
-  Vec2 uv0{0.0f}, uv1{1.0f, 0.0f}, uv2{0.0f, 1.0f};
   Vec3 normal{0.0f};  // the emitting side (the face normal is flipped to agree); 0: winding
   int primitive = -1;  // reported in EmitterPoint::primitive
   int instance = -1;   // reported in EmitterPoint::instance (with `triangle`)

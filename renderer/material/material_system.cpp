@@ -227,15 +227,6 @@ Spectrum MaterialSystem::emission(int material, const ShadingPoint& point, const
 
 bool MaterialSystem::isEmissive(int material) const { return impl_->emissive[size_t(impl_->slot(material))] != 0; }
 
-int MaterialSystem::emissionUvSet(int material) const {
-  const Impl& im = *impl_;
-  const int s = im.slot(material);
-  const GltfMaterial* m = im.gltf(s);
-  return m && im.bindingOfMaterial[size_t(s)] < 0 && m->emissiveTexture.image >= 0 && m->emissiveTexture.texCoord == 1
-             ? 1
-             : 0;
-}
-
 bool MaterialSystem::emitsBothSides(int material) const {
   const Impl& im = *impl_;
   const int s = im.slot(material);

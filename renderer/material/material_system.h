@@ -69,9 +69,6 @@ class MaterialSystem {
   // The fixed wavelength group materials are probed with (averageEmission, light power).
   const Wavelengths& probeWavelengths() const;
   bool emitsBothSides(int material) const;
-  // The texture coordinate set area lights of `material` give its emission as ShadingPoint::uv
-  // (and uv1): 1 for a glTF material whose emissive texture reads TEXCOORD_1, else 0.
-  int emissionUvSet(int material) const;
   // Beer-Lambert absorption inside a closed object of this material (KHR_materials_volume:
   // transmittance attenuationColor^(d / attenuationDistance)): the absorption coefficient per
   // wavelength, per metre of path. False for materials without a volume.

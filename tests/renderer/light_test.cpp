@@ -44,16 +44,18 @@ struct MeanError {
   double error() const { return std::sqrt(std::max(0.0, sum2 / n - mean() * mean()) / n); }
 };
 
-// Emission 1 + uv.x on every wavelength, so that tests can check the interpolated uv.
-class UvEmission final : public EmissionSource {
+// Emission 1 + (the point's barycentric of the second vertex) on every wavelength: an emission
+// that reads its Hit, so that tests can check the point's place on the triangle it is given.
+class PlacedEmission final : public EmissionSource {
  public:
-  explicit UvEmission(float scale) : scale_(scale) {}
+  explicit PlacedEmission(float scale) : scale_(scale) {}
   Spectrum radiance(const EmitterPoint& p, const Wavelengths& lambda) const override {
     Spectrum s;
-    for (int i = 0; i < lambda.count; ++i) s[i] = scale_ * (1.0f + p.uv.x);
+    for (int i = 0; i < lambda.count; ++i) s[i] = p.instance == 7 ? scale_ * (1.0f + p.b12.x) : -1.0f;
     return s;
   }
-  float averageRadiance() const override { return scale_ * 1.5f; }
+  float averageRadiance() const override { return scale_ * (4.0f / 3.0f); }
+  bool readsHit() const override { return true; }
 
  private:
   float scale_;
@@ -93,8 +95,8 @@ TriangleLightDesc testTriangle() {
   t.p0 = Vec3(1.0f, -0.6f, -0.5f);
   t.p1 = Vec3(1.2f, 0.7f, -0.3f);
   t.p2 = Vec3(0.9f, 0.0f, 0.6f);
-  t.uv0 = Vec2(0.0f, 0.0f), t.uv1 = Vec2(1.0f, 0.0f), t.uv2 = Vec2(0.5f, 1.0f);
   t.normal = Vec3(-1.0f, 0.0f, 0.0f);  // facing the origin
+  t.instance = 7;  // where PlacedEmission expects its points
   return t;
 }
 
@@ -200,20 +202,17 @@ TEST(Light, TriangleSampleLiDirectionsFollowPdfLi) {
   }
 }
 
-TEST(Light, TriangleSampleLiReturnsTheEmissionAtTheInterpolatedUv) {
+TEST(Light, TriangleSampleLiReturnsTheEmissionAtTheSampledPoint) {
   const TriangleLightDesc t = testTriangle();
-  const UvEmission emission(2.0f);
+  const PlacedEmission emission(2.0f);
   const TriangleLight light(t, &emission);
   sampling::Pcg32 rng(4, 1);
   for (int i = 0; i < 1000; ++i) {
     const std::optional<LightLiSample> s = light.sampleLi(Vec3(0.0f), next2(rng), kLambda);
     ASSERT_TRUE(s);
-    // Barycentrics of the sampled point, from areas of sub-triangles.
-    const float area = light.area();
-    const float b1 = 0.5f * glm::length(glm::cross(t.p0 - s->pLight, t.p2 - s->pLight)) / area;
-    const float b2 = 0.5f * glm::length(glm::cross(t.p0 - s->pLight, t.p1 - s->pLight)) / area;
-    const float u = t.uv0.x * (1 - b1 - b2) + t.uv1.x * b1 + t.uv2.x * b2;
-    EXPECT_NEAR(s->L[0], 2.0f * (1.0f + u), 1e-3f);
+    // The sampled point's barycentric of p1, from the area of the sub-triangle opposite it.
+    const float b1 = 0.5f * glm::length(glm::cross(t.p0 - s->pLight, t.p2 - s->pLight)) / light.area();
+    EXPECT_NEAR(s->L[0], 2.0f * (1.0f + b1), 1e-3f);
     EXPECT_EQ(s->L[5], 0.0f);  // lanes past the group's count stay black
     EXPECT_NEAR(s->distance, glm::length(s->pLight), 1e-5f);
     EXPECT_LT(dot3(s->wi, s->nLight), 0.0f);
@@ -226,7 +225,7 @@ TEST(Light, TriangleSampleLiReturnsTheEmissionAtTheInterpolatedUv) {
 // when the shadow ray is clear: that must be the very sample and value sampleLi gives.
 TEST(Light, TriangleDeferredRadianceIsSampleLisRadiance) {
   const TriangleLightDesc t = testTriangle();
-  const UvEmission emission(2.0f);
+  const PlacedEmission emission(2.0f);
   const TriangleLight light(t, &emission);
   const PointLight point(Vec3(0.0f, 1.0f, 0.0f), SpectrumSource::constant(3.0f));
   sampling::Pcg32 rng(8, 2);

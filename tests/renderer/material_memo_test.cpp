@@ -296,9 +296,6 @@ TEST(MaterialMemo, GltfVertexColoursAndSecondUvSetReachShading) {
   std::string error;
   const std::unique_ptr<MaterialSystem> materials = MaterialSystem::create(scene, MaterialOptions{}, error);
   ASSERT_TRUE(materials) << error;
-  // glTF textures are looked up without a footprint: the path tracer must not pay two extra
-  // camera rays per path for it.
-  for (size_t m = 0; m < scene.materials.size(); ++m) EXPECT_FALSE(materials->readsPixelFootprint(int(m))) << m;
   CompiledGltf direct;
   ASSERT_TRUE(compileGltfMaterial(4, false, false, direct, error)) << error;
   const Wavelengths lambda = color::sampleWavelengthGroup(0.4f, 4);
