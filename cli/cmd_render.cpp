@@ -191,7 +191,7 @@ int runRender(const Args& args) {
 
   render::RenderSettings& s = scene.settings;
   if (f.spp > 0) s.spp = f.spp;
-  if (f.maxDepth > 0) s.maxDepth = f.maxDepth;
+  if (f.maxDepth >= 0) s.maxDepth = f.maxDepth;  // unset: -1 (0 is a depth: emitters seen directly)
   if (f.rouletteDepth > 0) s.rouletteDepth = f.rouletteDepth;
   if (f.wavelengths > 0) s.wavelengths = f.wavelengths;
   if (f.seed >= 0) s.seed = uint64_t(f.seed);
@@ -199,9 +199,18 @@ int runRender(const Args& args) {
   if (f.width > 0) {
     s.width = f.width;
     s.height = f.height;
-  } else if (!scene.settingsGiven && s.camera >= 0 && size_t(s.camera) < scene.cameras.size() &&
+  } else if (!scene.resolutionGiven && s.camera >= 0 && size_t(s.camera) < scene.cameras.size() &&
              scene.cameras[size_t(s.camera)].aspect > 0) {
     s.height = std::max(1, int(std::lround(s.width / scene.cameras[size_t(s.camera)].aspect)));
+  }
+  // The image's shape sets the projection's aspect: a camera's own aspect only picks the
+  // height when no resolution is given, so say when it is overruled.
+  if (s.camera >= 0 && size_t(s.camera) < scene.cameras.size()) {
+    const float aspect = scene.cameras[size_t(s.camera)].aspect;
+    const float imageAspect = float(s.width) / float(s.height);
+    if (aspect > 0 && std::fabs(aspect - imageAspect) > 0.01f * aspect)
+      std::fprintf(stderr, "tex render: warning: camera %d's aspect %g is overruled by the image's %dx%d (aspect %g)\n",
+                   s.camera, double(aspect), s.width, s.height, double(imageAspect));
   }
   if (f.camera >= 0 && size_t(f.camera) >= scene.cameras.size())
     return fail("--camera " + std::to_string(f.camera) + ": the scene has " + std::to_string(scene.cameras.size()) + " camera(s)");
@@ -307,6 +316,9 @@ int runRender(const Args& args) {
 
   const render::PathCounters counters = tracer.counters();
   const DevelopedImage image = filmSink.film().develop();
+  if (image.saturatedPixels > 0)
+    std::fprintf(stderr, "tex render: warning: %llu pixels saturated the film (values beyond about 5e11 per pixel, summed over its samples): their values and variances are wrong\n",
+                 (unsigned long long)image.saturatedPixels);
   std::map<std::string, std::string> metadata = {
       {"tex.scene", f.scene},
       {"tex.samples", std::to_string(result.samplesDone)},

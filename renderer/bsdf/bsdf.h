@@ -123,7 +123,8 @@ class Bsdf {
   const Lobe& coat() const { return coat_; }
   int lobeCount() const { return count_; }
   const Lobe& lobe(int i) const { return storage_.lobes[i]; }
-  bool empty() const { return count_ == 0; }
+  // No lobe and no coat (a coat over a black base, whose lobe was dropped, still reflects).
+  bool empty() const { return count_ == 0 && !hasCoat_; }
   bool hasNonSpecular() const { return hasNonSpecular_; }
   // A non-specular lobe whose density differs between the group's lanes (rough or glossy
   // dispersive: etaVaries).

@@ -52,6 +52,9 @@ class Camera {
   const CameraSettings& settings() const { return settings_; }
   bool isOrthographic() const { return settings_.orthoHalfHeight > 0.0f; }
   bool isPinhole() const { return !isOrthographic() && settings_.lensRadius <= 0.0f; }
+  // Whether generateRay and sampleWi read uLens (a thin lens; pinhole and orthographic cameras
+  // leave those sampler dimensions free).
+  bool usesLens() const { return !isOrthographic() && settings_.lensRadius > 0.0f; }
   Vec3 position() const { return origin_; }
   Vec3 forward() const { return forward_; }
 

@@ -71,6 +71,13 @@ float visibleWavelengthCdf(float lambdaNm) {
   return float((kTanhLow + std::tanh(kA * (double(lambdaNm) - kCentreNm))) / kTanhSpan);
 }
 
+WavelengthGroup sampleWavelengthGroupStratified(float uSet, float uHero, int count) {
+  const int n = std::clamp(count, 1, kMaxWavelengths);
+  const float k = std::min(std::floor(uHero * float(n)), float(n - 1));
+  // (uSet + k) / n < 1 in float for uSet <= 1 - 2^-24 and n <= 8.
+  return sampleWavelengthGroup((uSet + k) / float(n), n);
+}
+
 WavelengthGroup sampleWavelengthGroup(float u, int count) {
   WavelengthGroup group;
   group.count = std::clamp(count, 1, kMaxWavelengths);

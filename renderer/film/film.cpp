@@ -34,6 +34,19 @@ inline int64_t toFixed(double x) {
 }
 inline double fromFixed(int64_t x) { return double(x) / kFixedScale; }
 
+// A pixel's running sums hold at most 2^63 units (5.5e11 in value; its squares' sums reach that
+// first, at about 9e4 per sample over 64 samples): a sum that would pass it stays at the limit
+// instead of wrapping to the other sign, and develop() reports the pixel. Sticky: a saturated
+// sum no longer moves, since what it lost cannot be recovered.
+constexpr int64_t kSumMax = INT64_MAX, kSumMin = INT64_MIN;
+inline void addSaturating(int64_t& sum, int64_t v) {
+  int64_t r;
+  if (__builtin_expect(__builtin_add_overflow(sum, v, &r) || sum == kSumMax || sum == kSumMin, 0))
+    r = sum == kSumMax || sum == kSumMin ? sum : (v > 0 ? kSumMax : kSumMin);
+  sum = r;
+}
+inline bool isSaturated(int64_t sum) { return sum == kSumMax || sum == kSumMin; }
+
 // Adds toFixed(v[k]) to s[k] for k = 0..3. The SSE2 path converts two values per instruction
 // with the 1.5 * 2^52 trick, which rounds to nearest even exactly like cvtsd2si (and toFixed)
 // for |scaled| < 2^51; anything larger (or NaN) takes the scalar toFixed, so the integers added
@@ -51,13 +64,15 @@ inline void addFixed4(int64_t* s, double v0, double v1, double v2, double v3) {
     const __m128i magicBits = _mm_castpd_si128(magic);
     const __m128i fixedLo = _mm_sub_epi64(_mm_castpd_si128(_mm_add_pd(lo, magic)), magicBits);
     const __m128i fixedHi = _mm_sub_epi64(_mm_castpd_si128(_mm_add_pd(hi, magic)), magicBits);
-    __m128i* p = reinterpret_cast<__m128i*>(s);
-    _mm_storeu_si128(p, _mm_add_epi64(_mm_loadu_si128(p), fixedLo));
-    _mm_storeu_si128(p + 1, _mm_add_epi64(_mm_loadu_si128(p + 1), fixedHi));
+    alignas(16) int64_t fixed[4];
+    _mm_store_si128(reinterpret_cast<__m128i*>(fixed), fixedLo);
+    _mm_store_si128(reinterpret_cast<__m128i*>(fixed + 2), fixedHi);
+    for (int k = 0; k < 4; ++k) addSaturating(s[k], fixed[k]);
     return;
   }
 #endif
-  s[0] += toFixed(v0), s[1] += toFixed(v1), s[2] += toFixed(v2), s[3] += toFixed(v3);
+  addSaturating(s[0], toFixed(v0)), addSaturating(s[1], toFixed(v1));
+  addSaturating(s[2], toFixed(v2)), addSaturating(s[3], toFixed(v3));
 }
 
 // Layout of one pixel's sums (colour films; a scalar film keeps kSumA, kSumA2, then one a c and
@@ -113,7 +128,7 @@ inline void FilmAccumulator::splat(int px, int py, float a, const Colour& colour
   static_assert(kSumA2 == kSumA + 1 && kSumAC == kSumA + 2 && kSumAC2 == kSumA + 5, "two groups of four sums");
   addFixed4(s + kSumA, a64, a64 * a, ac0, ac1);
   addFixed4(s + kSumA + 4, ac2, ac0 * colour.c[0], ac1 * colour.c[1], ac2 * colour.c[2]);
-  for (int b = 0; b < settings_.spectralBins; ++b) s[kSumBins + b] += toFixed(double(a) * bins[b]);
+  for (int b = 0; b < settings_.spectralBins; ++b) addSaturating(s[kSumBins + b], toFixed(double(a) * bins[b]));
 }
 
 inline void FilmAccumulator::splatScalar(int px, int py, float a, float value) {
@@ -305,7 +320,10 @@ std::string FilmAccumulator::merge(const FilmAccumulator& other) {
       other.stride_ != stride_ || other.settings_.filter != settings_.filter) {
     return "cannot merge films with different resolution, filter or channels";
   }
-  for (size_t i = 0; i < sums_.size(); ++i) sums_[i] += other.sums_[i];
+  for (size_t i = 0; i < sums_.size(); ++i) {
+    if (isSaturated(other.sums_[i])) sums_[i] = other.sums_[i];
+    else addSaturating(sums_[i], other.sums_[i]);
+  }
   return "";
 }
 
@@ -325,6 +343,9 @@ DevelopedImage FilmAccumulator::develop(FilmEstimator estimator, uint64_t sample
   const double densityScale = samples > 0 ? double(pixels) / double(samples) : 0.0;
   for (size_t p = 0; p < pixels; ++p) {
     const int64_t* s = &sums_[p * stride_];
+    bool saturated = false;
+    for (int k = 0; k < stride_; ++k) saturated = saturated || isSaturated(s[k]);
+    image.saturatedPixels += saturated;
     const double sumA = fromFixed(s[kSumA]), sumA2 = fromFixed(s[kSumA2]);
     image.weightSum[p] = float(sumA);
     if (sumA == 0.0) continue;

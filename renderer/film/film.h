@@ -43,6 +43,9 @@ struct DevelopedImage {
   int spectralBins = 0;
   std::vector<float> spectral;  // spectralBins per pixel: mean radiance over each bin
   float binMinNm = 360, binWidthNm = 0;
+  // Pixels with a sum at the film's fixed-point limit (about 5.5e11 per pixel; sums of squares
+  // for the variance get there first): their values are wrong and must be reported.
+  uint64_t saturatedPixels = 0;
 
   RgbImage rgbImage() const { return {width, height, rgb}; }
   // EXR channels R, G, B [, variance.R/G/B] [, spectral.<centre>nm ...] with metadata.

@@ -106,7 +106,11 @@ SampleRecord PathTracer::record(uint64_t index) const {
   rec.weight = 1.0f;
   rec.technique = kTechniqueCamera;
   const sampling::IndexSampler samples(sampler_, index);
-  Wavelengths lambda = color::sampleWavelengthGroup(samples.get(sampling::kWavelengthDimension), settings_.wavelengths);
+  // The hero lane's choice is stratified with the group (Sobol dimensions 2 and 3 form a
+  // (0,2)-sequence's projection) where the lens leaves dimension 3 free; otherwise a hash.
+  const float uHero = scene_.camera().usesLens() ? samples.independent(kHeroLaneStream) : samples.get(kLensDimension);
+  Wavelengths lambda =
+      color::sampleWavelengthGroupStratified(samples.get(sampling::kWavelengthDimension), uHero, settings_.wavelengths);
   rec.wavelengthCount = uint8_t(lambda.count);
   const Vec2 uLens(samples.get(kLensDimension), samples.get(kLensDimension + 1));
   // Where the sample lies on the camera's image (the same position without a crop window:

@@ -64,6 +64,8 @@ class PathTracer {
   static constexpr int kLensDimension = sampling::kFirstKernelDimension;
   static constexpr int kFirstBounceDimension = kLensDimension + 2;
   static constexpr int kDimensionsPerBounce = 7;  // light choice, light 2D, lobe choice, BSDF 2D, roulette
+  // The stream of IndexSampler::independent that picks the hero lane of the wavelength group.
+  static constexpr uint64_t kHeroLaneStream = 0x4e50;
 
  private:
   // Where the camera ray started, so that the first hit can trace the neighbouring pixels'

@@ -94,6 +94,11 @@ class IndexSampler {
     return sampler_.get(index_, dimension);
   }
   uint64_t index() const { return index_; }
+  // A uniform [0,1) number independent of every dimension (a hash of seed, index and
+  // `stream`), for choices whose stratification would not reduce any error.
+  float independent(uint64_t stream) const {
+    return bitsToUnitFloat(uint32_t(hashWords(sampler_.seed(), index_, stream) >> 32));
+  }
 
  private:
   const Sampler& sampler_;

@@ -168,7 +168,7 @@ struct SceneDescription {
   std::vector<CameraDesc> cameras;
   std::vector<LightDesc> lights;
   RenderSettings settings;
-  bool settingsGiven = false;       // the file set render settings (CLI flags still override)
+  bool resolutionGiven = false;     // the file set render.resolution (CLI flags still override)
   std::vector<std::string> warnings;  // recoverable problems (missing image, unknown extension)
 };
 

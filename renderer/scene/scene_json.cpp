@@ -313,8 +313,8 @@ class SceneJsonLoader {
   void settings(const JsonAt& at) {
     if (!r_.checkKeys(at, {"resolution", "spp", "max_depth", "roulette_depth", "wavelengths", "seed", "integrator", "camera"})) return;
     RenderSettings& s = scene_.settings;
-    scene_.settingsGiven = true;
     if (const JsonAt res = r_.child(at, "resolution")) {
+      scene_.resolutionGiven = true;
       if (!res.j->is_array() || res.j->size() != 2 || !(*res.j)[0].is_number_integer() || !(*res.j)[1].is_number_integer())
         return r_.error(res, "expected [width, height] as integers");
       const int64_t w = (*res.j)[0].get<int64_t>(), h = (*res.j)[1].get<int64_t>();

@@ -138,6 +138,26 @@ quad_scene "$tmp/nanalbedo.json" nanalbedo.tex wall
 expect_exit 0 "NaN albedo" "$tex" render "$tmp/nanalbedo.json" --spp 1 --res 8x8 -o "$tmp/x.exr"
 echo "$out" | grep -q "material evaluation failures" || fail "a NaN albedo is not reported: $out"
 
+# --max-depth 0 overrides a scene's max_depth (0 is a depth: emitters seen directly).
+cat > "$tmp/depth3.json" <<JSON
+{"shapes": [{"type": "quad", "size": [2, 2], "material": "W"}],
+ "materials": [{"match": {"material": "W"}, "file": "$src/scenes/cornell.tex", "entry": "wall"}],
+ "render": {"max_depth": 3}}
+JSON
+expect_exit 0 "--max-depth 0" "$tex" render "$tmp/depth3.json" --spp 1 --res 8x8 --max-depth 0 -o "$tmp/x.exr"
+echo "$out" | grep -q "max depth 0;" || fail "--max-depth 0 did not override the scene's max_depth: $out"
+# A camera aspect that the image's shape overrules draws a warning.
+cat > "$tmp/aspect.json" <<JSON
+{"shapes": [{"type": "quad", "size": [2, 2], "material": "W"}],
+ "materials": [{"match": {"material": "W"}, "file": "$src/scenes/cornell.tex", "entry": "wall"}],
+ "camera": {"from": [0, 0, 3], "aspect": 2}, "render": {"spp": 1}}
+JSON
+expect_exit 0 "camera aspect" "$tex" render "$tmp/aspect.json" --res 16x16 -o "$tmp/x.exr"
+echo "$out" | grep -q "aspect 2 is overruled by the image's 16x16" || fail "an overruled camera aspect is not reported: $out"
+expect_exit 0 "camera aspect sets the height" "$tex" render "$tmp/aspect.json" -q -o "$tmp/aspect.exr"
+expect_exit 0 "compare aspect" "$tex" compare --json "$tmp/aspect.exr" "$tmp/aspect.exr"
+echo "$out" | grep -q '"width": 512, "height": 256' || fail "the camera aspect did not set the height with a render object: $out"
+
 # tex eval: Ctrl-C keeps the partial image (exit 130), as tex render does.
 expect_interrupted eval "$tmp/e.log" "$tmp/eval_part.png" "interrupted" \
   "$tex" eval "$src/scenes/marble.tex" --fn marble --size 8192x8192 -o "$tmp/eval_part.png"

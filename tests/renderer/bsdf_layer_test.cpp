@@ -55,6 +55,28 @@ double albedo(const Bsdf& bsdf, const Vec3& wo, int n, uint64_t seed) {
   return sum / n;
 }
 
+// A coat over a black base (whose zero-weight lobe the closure walk drops) is a Bsdf of its
+// own: not empty, so the path tracer does not stop there, and it reflects F(cos) at its
+// mirror direction (the helper's glTF piano black reflected nothing).
+TEST(BsdfLayer, ACoatWithoutLobesStillReflects) {
+  Bsdf bsdf(Frame(), Vec3(0, 0, 1));
+  EXPECT_TRUE(bsdf.empty());
+  Lobe coat;
+  coat.kind = LobeKind::SmoothDielectric;
+  coat.weight = uniform(1);
+  coat.a = uniform(1.5f);
+  ASSERT_TRUE(bsdf.setCoat(coat));
+  EXPECT_FALSE(bsdf.empty());
+  for (float theta : {0.0f, 1.0f}) {
+    const Vec3 wo = fromAngles(theta, 0.3f);
+    const auto s = bsdf.sample(wo, 0.5f, Vec2(0.5f), TransportMode::Radiance);
+    ASSERT_TRUE(s && s->specular);
+    EXPECT_EQ(s->wi, Vec3(-wo.x, -wo.y, wo.z));
+    // The estimator's weight f cos / pdf is the reflectance.
+    EXPECT_NEAR(s->f[0] * wo.z / s->pdfW, fresnelDielectric(wo.z, 1.5f), 1e-5f);
+  }
+}
+
 TEST(BsdfLayer, SmoothCoatIsPickedWithItsFresnelShare) {
   // The coat is the last component: uc near 1 picks it. Its event probability is F(cos_o), so
   // its sample weighs F / F = 1 for a unit-weight coat (the hero lane).

@@ -2,6 +2,7 @@
 // the group estimators.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -9,6 +10,8 @@
 #include "renderer/color/color.h"
 #include "renderer/color/spectral_to_rgb.h"
 #include "renderer/color/wavelengths.h"
+#include "renderer/sampling/pcg.h"
+#include "tests/renderer/chi_square.h"
 
 namespace tex::color {
 namespace {
@@ -105,6 +108,45 @@ TEST(Wavelengths, GroupEstimatorIsUnbiasedForAFlatSpectrum) {
   // The group's wavelengths are rotated evenly in the primary sample space.
   const WavelengthGroup g = sampleWavelengthGroup(0.1f, 4);
   for (int j = 0; j < 4; ++j) EXPECT_NEAR(visibleWavelengthCdf(g.lambdaNm[j]), std::fmod(0.1f + 0.25f * j, 1.0f), 1e-5);
+}
+
+// sampleWavelengthGroupStratified: the group as a set depends on uSet alone, the hero is any of
+// its lanes with equal probability and has the visible density, and stratified uSet values
+// stratify the lanes at count times their number (the point of the construction).
+TEST(WavelengthSampling, StratifiedGroupsKeepTheSetStratifyTheLanesAndLeaveTheHeroUniform) {
+  for (const int count : {4, 8}) {
+    // The set: lane j of the rotation (uSet + j) / count, the hero picked by uHero.
+    for (const float uHero : {0.0f, 0.3f, 0.99999f}) {
+      const WavelengthGroup g = sampleWavelengthGroupStratified(0.37f, uHero, count);
+      std::vector<float> cdfs;
+      for (int j = 0; j < count; ++j) cdfs.push_back(visibleWavelengthCdf(g.lambdaNm[size_t(j)]));
+      EXPECT_NEAR(cdfs[0], (0.37f + std::floor(uHero * count)) / count, 2e-5) << count << " " << uHero;
+      std::sort(cdfs.begin(), cdfs.end());
+      for (int j = 0; j < count; ++j) EXPECT_NEAR(cdfs[size_t(j)], (0.37f + j) / count, 2e-5) << count << " " << j;
+    }
+    // Stratified: 16 samples with one uSet per 1/16 give 16 x count lanes, one per CDF
+    // stratum of width 1 / (16 count). (Rotating u_j = frac(u + j / count) by the same u would
+    // leave the lanes' offsets within each 1/count of the CDF only 16 / count-fold stratified.)
+    sampling::Pcg32 rng(3, 5);
+    std::vector<int> perStratum(size_t(16 * count), 0);
+    for (int i = 0; i < 16; ++i) {
+      const WavelengthGroup g = sampleWavelengthGroupStratified((i + rng.nextFloat()) / 16.0f, rng.nextFloat(), count);
+      for (int j = 0; j < count; ++j)
+        ++perStratum[size_t(std::min(int(visibleWavelengthCdf(g.lambdaNm[size_t(j)]) * 16 * count), 16 * count - 1))];
+    }
+    EXPECT_EQ(*std::min_element(perStratum.begin(), perStratum.end()), 1) << count;
+    EXPECT_EQ(*std::max_element(perStratum.begin(), perStratum.end()), 1) << count;
+    // The hero's CDF value is uniform for independent uniform uSet and uHero (chi-square over
+    // 64 cells, 1M samples), so its wavelength has the visible density.
+    const int kSamples = 1 << 20, kCells = 64;
+    std::vector<double> observed(kCells, 0.0), expected(kCells, double(kSamples) / kCells);
+    for (int i = 0; i < kSamples; ++i) {
+      const WavelengthGroup g = sampleWavelengthGroupStratified(rng.nextFloat(), rng.nextFloat(), count);
+      observed[size_t(std::min(int(visibleWavelengthCdf(g.lambdaNm[0]) * kCells), kCells - 1))] += 1;
+    }
+    const test::ChiSquareResult r = test::chiSquareTest(observed, expected, 0.01, 2);
+    EXPECT_TRUE(r.passed) << count << ": " << r.detail;
+  }
 }
 
 }  // namespace

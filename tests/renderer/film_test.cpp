@@ -193,6 +193,42 @@ TEST(Film, FixedPointConversionRoundsExactlyOnEveryPath) {
   EXPECT_EQ(single.sums(), batched.sums());
 }
 
+// Sums past the fixed-point range stay at its limit instead of wrapping to the other sign
+// (a 1e9 sky at 1024 spp developed to -0.074 with a variance of 0), and develop() counts the
+// pixel; a merge of saturated films stays saturated. Colour, scalar and batched paths.
+TEST(Film, SumsSaturateInsteadOfWrappingAndDevelopCountsThePixels) {
+  for (const ValueKind kind : {ValueKind::Scalar, ValueKind::SpectralRadianceOverPdf}) {
+    FilmAccumulator film(settingsFor(2, 1, FilterKind::Box, kind));
+    std::vector<SampleRecord> batch;
+    for (int i = 0; i < 2048; ++i) {
+      SampleRecord r;
+      r.filmX = 0.25f, r.filmY = 0.5f, r.weight = 1.0f;
+      r.wavelengthCount = kind == ValueKind::Scalar ? 1 : 4;
+      for (int j = 0; j < 4; ++j) r.lambdaNm[size_t(j)] = 450.0f + 50.0f * j, r.values[size_t(j)] = 1.0e9f;
+      batch.push_back(r);
+      SampleRecord dim = r;  // the other pixel stays in range
+      dim.filmX = 0.75f;
+      for (int j = 0; j < 4; ++j) dim.values[size_t(j)] = 0.5f;
+      batch.push_back(dim);
+    }
+    film.add(batch.data(), batch.size());
+    for (const SampleRecord& r : batch) film.add(r);
+    const DevelopedImage image = film.develop();
+    EXPECT_EQ(image.saturatedPixels, 1u);
+    for (int k = 0; k < 3; ++k) {
+      if (kind == ValueKind::Scalar && k > 0) break;
+      EXPECT_GT(image.rgb[size_t(k)], 0.0f) << "wrapped to the other sign";
+    }
+    FilmAccumulator other(settingsFor(2, 1, FilterKind::Box, kind));
+    other.add(batch.data(), batch.size());
+    EXPECT_EQ(film.merge(other), "");
+    EXPECT_EQ(film.develop().saturatedPixels, 1u);
+    FilmAccumulator modest(settingsFor(2, 1, FilterKind::Box, kind));
+    modest.add(batch.data() + 1, 1);
+    EXPECT_EQ(modest.develop().saturatedPixels, 0u);
+  }
+}
+
 TEST(Film, ColourSplatRoundsExactlyLikeTheScalarConversion) {
   // Colour films convert their eight sums four at a time (SSE2); the integers must be those of
   // round-to-nearest-even with NaN -> 0 and saturation, the huge values' fallback included.

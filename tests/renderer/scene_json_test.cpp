@@ -104,7 +104,7 @@ TEST(SceneJson, FixtureLoadsEverySection) {
   EXPECT_EQ(scene->lights[3].kind, LightDesc::Kind::ConstantEnvironment);
   EXPECT_EQ(scene->lights[3].emission.value, 0.25f);
 
-  EXPECT_TRUE(scene->settingsGiven);
+  EXPECT_TRUE(scene->resolutionGiven);
   EXPECT_EQ(scene->settings.width, 320);
   EXPECT_EQ(scene->settings.height, 240);
   EXPECT_EQ(scene->settings.spp, 64);
