@@ -13,7 +13,8 @@ namespace {
 
 // Accessors without a buffer view (all zeros, or sparse only) are not bounded by any buffer;
 // refuse absurd element counts before allocating.
-constexpr uint64_t kMaxUnbackedElements = uint64_t(1) << 27;
+// (A 740-byte file with a 2^27-element POSITION accessor and no bufferView took 12 GB.)
+constexpr uint64_t kMaxUnbackedElements = uint64_t(1) << 22;
 
 int componentBytes(int componentType) {
   switch (componentType) {
@@ -54,13 +55,14 @@ const char* typeName(int type) {
 bool componentAllowed(int componentType, bool normalized, unsigned allowed) {
   switch (componentType) {
     case TINYGLTF_COMPONENT_TYPE_FLOAT: return allowed & kFloatComponents;
+    // kUnsignedIntegers (indices) are never normalized (glTF 2.0, 3.7.2.1).
     case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
-      return (allowed & kUnsignedIntegers) || (normalized ? (allowed & kNormalizedUint8) : (allowed & kSmallIntegers));
+      return normalized ? (allowed & kNormalizedUint8) : (allowed & (kUnsignedIntegers | kSmallIntegers));
     case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
-      return (allowed & kUnsignedIntegers) || (normalized ? (allowed & kNormalizedUint16) : (allowed & kSmallIntegers));
+      return normalized ? (allowed & kNormalizedUint16) : (allowed & (kUnsignedIntegers | kSmallIntegers));
     case TINYGLTF_COMPONENT_TYPE_BYTE: return normalized ? (allowed & kNormalizedInt8) : (allowed & kSmallIntegers);
     case TINYGLTF_COMPONENT_TYPE_SHORT: return normalized ? (allowed & kNormalizedInt16) : (allowed & kSmallIntegers);
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: return allowed & kUnsignedIntegers;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: return !normalized && (allowed & kUnsignedIntegers);
     default: return false;
   }
 }
@@ -158,6 +160,7 @@ std::string readAccessor(const tinygltf::Model& model, int index, int type, unsi
   if (count == 0) return name + " has count 0";
 
   out.clear();
+  if (acc.bufferView < -1) return name + " has bufferView " + std::to_string(acc.bufferView) + ", not an index";
   if (acc.bufferView >= 0) {
     ByteView bytes;
     std::string err = checkView(model, acc.bufferView, acc.byteOffset, count, components * compBytes, true, bytes);

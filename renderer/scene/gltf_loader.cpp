@@ -2,7 +2,10 @@
 // Accessors are read through gltf_accessor.h, materials through gltf_material.cpp.
 #include "renderer/scene/gltf_loader.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <optional>
@@ -451,6 +454,12 @@ class Importer {
     worldOfNode_.assign(model_.nodes.size(), std::nullopt);
     for (int root : roots)
       if (!visitNode(root, transform_, 0)) return false;
+    if (model_.scenes.empty()) {
+      // Every node is below a root unless the children form a cycle with no way in.
+      for (size_t i = 0; i < model_.nodes.size(); ++i)
+        if (!visited_.count(int(i)))
+          return fail("node " + std::to_string(i) + " is reached from no root: the children links form a cycle (the node graph must be a tree)"), false;
+    }
     return placeSkinnedMeshes();
   }
 
@@ -482,6 +491,37 @@ void splitLines(const std::string& text, const std::string& prefix, std::vector<
   }
 }
 
+// The deepest nesting of arrays and objects in JSON text (outside strings). tinygltf parses
+// recursively, so a file nested a million deep (2 MB of brackets) overflowed the stack.
+int jsonNestingDepth(const unsigned char* text, size_t size) {
+  int depth = 0, deepest = 0;
+  bool inString = false, escaped = false;
+  for (size_t i = 0; i < size; ++i) {
+    const unsigned char c = text[i];
+    if (inString) {
+      if (escaped) escaped = false;
+      else if (c == '\\') escaped = true;
+      else if (c == '"') inString = false;
+    } else if (c == '"') {
+      inString = true;
+    } else if (c == '[' || c == '{') {
+      deepest = std::max(deepest, ++depth);
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
+  return deepest;
+}
+constexpr int kMaxJsonNesting = 256;
+
+// Files a glTF refers to (buffers, images) must be regular files: a FIFO blocked the loader
+// forever and a directory threw bad_alloc. Others count as missing (an error for a buffer, a
+// warning for an image, as a missing file is).
+bool regularFileExists(const std::string& absolutePath, void*) {
+  std::error_code ec;
+  return std::filesystem::is_regular_file(absolutePath, ec);
+}
+
 bool parseFile(const std::string& path, tinygltf::Model& model, DecodedImages& decoded,
                std::vector<std::string>& warnings, std::vector<std::string>& errors) {
   std::ifstream file(path, std::ios::binary);
@@ -494,7 +534,22 @@ bool parseFile(const std::string& path, tinygltf::Model& model, DecodedImages& d
   if (ext == ".glb" && !binary)
     return errors.push_back(path + ": not a binary glTF file (no 'glTF' magic at the start)"), false;
 
+  // The JSON text: the whole file, or a GLB's first chunk (checked again by tinygltf).
+  size_t jsonStart = 0, jsonSize = bytes.size();
+  if (binary && bytes.size() >= 20) {
+    uint32_t chunkLength = 0;
+    std::memcpy(&chunkLength, bytes.data() + 12, 4);
+    jsonStart = 20;
+    jsonSize = std::min<size_t>(chunkLength, bytes.size() - 20);
+  }
+  if (jsonNestingDepth(bytes.data() + jsonStart, jsonSize) > kMaxJsonNesting)
+    return errors.push_back(path + ": the JSON nests arrays and objects more than " + std::to_string(kMaxJsonNesting) +
+                            " levels deep"), false;
+
   tinygltf::TinyGLTF loader;
+  tinygltf::FsCallbacks fs{&regularFileExists, &tinygltf::ExpandFilePath, &tinygltf::ReadWholeFile,
+                           &tinygltf::WriteWholeFile, nullptr};
+  loader.SetFsCallbacks(fs);
   decoded.model = &model;
   loader.SetImageLoader(&decodeGltfImage, &decoded);
   std::string err, warn;
@@ -515,6 +570,9 @@ bool parseFile(const std::string& path, tinygltf::Model& model, DecodedImages& d
     splitLines(err, path + ": ", errors);
     return false;
   }
+  // On success tinygltf's errors are fields it dropped (a baseColorFactor of three numbers lost
+  // the whole pbrMetallicRoughness, and the material turned into a grey metal): say so.
+  splitLines(err, path + ": ", warnings);
   return true;
 }
 
@@ -526,6 +584,14 @@ bool appendGltf(const std::string& path, const Mat4& transform, SceneDescription
   DecodedImages decoded;
   std::vector<std::string> warnings;
   if (!parseFile(path, model, decoded, warnings, errors)) return false;
+  // Accessors without a bufferView are zeros of any count the file claims: bound their total
+  // so that a small file cannot make the loader allocate gigabytes (each is also bounded).
+  uint64_t unbackedElements = 0;
+  for (const tinygltf::Accessor& a : model.accessors)
+    if (a.bufferView < 0) unbackedElements += uint64_t(a.count);
+  if (unbackedElements > (uint64_t(1) << 23))
+    return errors.push_back(path + ": accessors without a bufferView claim " + std::to_string(unbackedElements) +
+                            " elements in all, more than 8388608"), false;
   const size_t errorsBefore = errors.size();
   for (const std::string& required : model.extensionsRequired)
     if (!kSupportedExtensions.count(required))

@@ -26,7 +26,8 @@ class SceneJsonLoader {
       if (!root.j->is_object()) return;
     forEach("gltf", [&](const JsonAt& at) { gltf(at); });
     if (const JsonAt m = r_.child(root, "pbr_materials"); m && r_.isObject(m))
-      for (auto it = m.j->begin(); it != m.j->end(); ++it) pbrMaterial(r_.child(m, it.key()), it.key());
+      for (auto it = m.j->begin(); it != m.j->end(); ++it)
+        if (!SceneJsonReader::isCommentKey(it.key())) pbrMaterial(r_.child(m, it.key()), it.key());
     forEach("shapes", [&](const JsonAt& at) { shape(at); });
     forEach("materials", [&](const JsonAt& at) { binding(at); });
     std::vector<CameraDesc> cameras;
@@ -183,7 +184,7 @@ class SceneJsonLoader {
     const JsonAt match = r_.child(at, "match");
     if (!match) return r_.error(at, "missing \"match\" ({\"material\": name} or {\"mesh\": name})");
     if (!r_.checkKeys(match, {"material", "mesh"})) return;
-    if (match.j->size() != 1) return r_.error(match, "give exactly one of \"material\" and \"mesh\"");
+    if (SceneJsonReader::keyCount(match) != 1) return r_.error(match, "give exactly one of \"material\" and \"mesh\"");
     if (!r_.string(match, "material", b.matchMaterial) || !r_.string(match, "mesh", b.matchMesh)) return;
     std::string file;
     if (!r_.child(at, "file")) return r_.error(at, "missing \"file\" (a .tex module)");
@@ -193,6 +194,7 @@ class SceneJsonLoader {
     if (const JsonAt params = r_.child(at, "params")) {
       if (!r_.isObject(params)) return;
       for (auto it = params.j->begin(); it != params.j->end(); ++it) {
+        if (SceneJsonReader::isCommentKey(it.key())) continue;
         TexParamValue value;
         if (!r_.texParam(r_.child(params, it.key()), value)) return;
         b.params[it.key()] = std::move(value);

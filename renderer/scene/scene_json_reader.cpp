@@ -98,12 +98,18 @@ bool SceneJsonReader::isArray(const JsonAt& at) {
   return false;
 }
 
+size_t SceneJsonReader::keyCount(const JsonAt& object) {
+  size_t n = 0;
+  for (auto it = object.j->begin(); it != object.j->end(); ++it) n += !isCommentKey(it.key());
+  return n;
+}
+
 bool SceneJsonReader::checkKeys(const JsonAt& object, std::initializer_list<const char*> allowed) {
   if (!isObject(object)) return false;
   bool ok = true;
   for (auto it = object.j->begin(); it != object.j->end(); ++it) {
     const std::string& key = it.key();
-    if (!key.empty() && key[0] == '_') continue;
+    if (isCommentKey(key)) continue;
     if (std::any_of(allowed.begin(), allowed.end(), [&](const char* a) { return key == a; })) continue;
     std::string best;
     size_t bestDistance = 3;

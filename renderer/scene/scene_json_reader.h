@@ -38,6 +38,10 @@ class SceneJsonReader {
   bool isArray(const JsonAt& at);
   // Unknown keys are errors, with a suggestion for near misses; keys starting with '_' are comments.
   bool checkKeys(const JsonAt& object, std::initializer_list<const char*> allowed);
+  // Keys starting with '_' are comments at any level (docs/scene-format.md).
+  static bool isCommentKey(const std::string& key) { return !key.empty() && key[0] == '_'; }
+  // The number of an object's keys that are not comments.
+  static size_t keyCount(const JsonAt& object);
 
   // Optional members: `out` is unchanged when the key is absent; false on a wrong type or range.
   bool number(const JsonAt& object, const char* key, float& out, float min = -INFINITY, float max = INFINITY);

@@ -68,7 +68,7 @@ bool SceneJsonReader::transform(const JsonAt& at, Mat4& out) {
   out = Mat4(1.0f);
   if (!checkKeys(at, {"matrix", "translate", "rotate", "scale"})) return false;
   if (const JsonAt matrix = child(at, "matrix")) {
-    if (at.j->size() > 1) return error(matrix, "\"matrix\" cannot be combined with translate/rotate/scale"), false;
+    if (keyCount(at) > 1) return error(matrix, "\"matrix\" cannot be combined with translate/rotate/scale"), false;
     std::vector<float> m;
     if (!vector(matrix, 16, 16, m)) return false;
     out = glm::make_mat4(m.data());  // column-major, as glTF

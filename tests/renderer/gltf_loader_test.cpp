@@ -8,6 +8,8 @@
 #include <fstream>
 #include <map>
 
+#include <sys/stat.h>
+
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <nlohmann/json.hpp>
@@ -443,6 +445,57 @@ TEST_F(GltfMutated, NodeCycle) {
   const std::string path = write("broken.gltf", doc.dump());
   EXPECT_FALSE(loadGltf(path, errors).has_value());
   EXPECT_TRUE(anyContains(errors, path));
+}
+
+// Round 13's hostile files: each used to crash, hang, take gigabytes or load wrong silently.
+TEST_F(GltfMutated, HostileStructureIsRefusedWithAMessage) {
+  // Extras nested a million deep overflowed tinygltf's recursion (a segfault).
+  {
+    json doc = base_;
+    std::string deep = doc.dump();
+    deep.insert(1, "\"extras\": " + std::string(300, '[') + std::string(300, ']') + ", ");
+    const std::string path = write("deep.gltf", deep);
+    std::vector<std::string> errors;
+    EXPECT_FALSE(loadGltf(path, errors).has_value());
+    EXPECT_TRUE(anyContains(errors, "levels deep")) << (errors.empty() ? "" : errors[0]);
+  }
+  // 2^27 zeros claimed by a 700-byte file took 12 GB.
+  json doc = base_;
+  doc["accessors"].push_back({{"componentType", 5126}, {"count", 1 << 24}, {"type", "VEC3"}});
+  expectError(doc, "without a bufferView");
+  doc = base_;
+  doc["accessors"][0]["bufferView"] = -5;
+  expectError(doc, "bufferView -5");
+  doc = base_;
+  doc["accessors"][3]["normalized"] = true;  // indices are never normalized
+  expectError(doc, "normalized");
+  // A cycle with no way in (every node is someone's child) and no scenes rendered nothing.
+  doc = base_;
+  doc.erase("scenes");
+  doc.erase("scene");
+  doc["nodes"][0]["children"] = json::array({1});
+  doc["nodes"][1]["children"] = json::array({0});
+  expectError(doc, "cycle");
+  // A buffer that is a FIFO blocked forever; a directory threw bad_alloc.
+  doc = base_;
+  const std::string fifo = (dir_ / "fifo.bin").string();
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  doc["buffers"][0]["uri"] = "fifo.bin";
+  expectError(doc, "fifo.bin");
+  doc["buffers"][0]["uri"] = ".";
+  expectError(doc, "not found");
+}
+
+// A field tinygltf drops is reported: a three-number baseColorFactor lost the whole
+// pbrMetallicRoughness without a word, and the material rendered as a grey metal.
+TEST_F(GltfMutated, FieldsTinygltfDropsAreWarnedAbout) {
+  json doc = base_;
+  doc["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"] = json::array({1, 0, 0});
+  const std::string path = write("short_factor.gltf", doc.dump());
+  std::vector<std::string> errors;
+  const auto scene = loadGltf(path, errors);
+  ASSERT_TRUE(scene) << (errors.empty() ? "" : errors[0]);
+  EXPECT_TRUE(anyContains(scene->warnings, "baseColorFactor"));
 }
 
 TEST_F(GltfMutated, UnsupportedRequiredExtension) {
