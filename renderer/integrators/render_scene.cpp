@@ -104,8 +104,25 @@ std::unique_ptr<RenderScene> RenderScene::build(const SceneDescription& scene, c
   rs->materials_ = MaterialSystem::create(scene, mo, error);
   if (!rs->materials_) return nullptr;
 
+  // Embree asserts (and aborts) on ray origins beyond about 1.8e18; keep every origin, a
+  // surface's or the camera's, well inside that.
+  constexpr float kMaxCoordinate = 1e15f;
+  const Bounds3 bounds = rs->geometry_->bounds();
+  if (!bounds.empty() && !(maxAbsComponent(bounds.lower) < kMaxCoordinate && maxAbsComponent(bounds.upper) < kMaxCoordinate)) {
+    error = "the geometry reaches beyond 1e15 units from the origin, which ray tracing does not support";
+    return nullptr;
+  }
   const float aspect = float(options.width) / float(std::max(options.height, 1));
-  rs->camera_ = std::make_unique<Camera>(chooseCamera(scene, rs->geometry_->bounds(), scene.settings.camera, aspect));
+  const CameraSettings cs = chooseCamera(scene, bounds, scene.settings.camera, aspect);
+  const float cameraReach = maxAbsComponent(Vec3(cs.cameraToWorld[3])) + cs.lensRadius +
+                            cs.orthoHalfHeight * (1.0f + std::max(aspect, 1.0f));
+  if (!(cameraReach < kMaxCoordinate) || !std::isfinite(glm::determinant(glm::mat3(cs.cameraToWorld)))) {
+    const bool sceneCamera = scene.settings.camera >= 0 && size_t(scene.settings.camera) < scene.cameras.size();
+    error = (sceneCamera ? "camera " + std::to_string(scene.settings.camera) : std::string("the camera framing the scene")) +
+            ": its position, lens radius or orthographic extent reaches beyond 1e15 units from the origin, which ray tracing does not support";
+    return nullptr;
+  }
+  rs->camera_ = std::make_unique<Camera>(cs);
 
   for (const LightDesc& ld : scene.lights) {
     std::unique_ptr<Light> light = makeLight(ld, error);

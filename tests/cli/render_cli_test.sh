@@ -138,10 +138,11 @@ quad_scene "$tmp/nanalbedo.json" nanalbedo.tex wall
 expect_exit 0 "NaN albedo" "$tex" render "$tmp/nanalbedo.json" --spp 1 --res 8x8 -o "$tmp/x.exr"
 echo "$out" | grep -q "material evaluation failures" || fail "a NaN albedo is not reported: $out"
 
+printf 'export fn wall(h: Hit) -> Material = diffuse(rgb(0.5))\n' > "$tmp/grey.tex"
 # --max-depth 0 overrides a scene's max_depth (0 is a depth: emitters seen directly).
 cat > "$tmp/depth3.json" <<JSON
 {"shapes": [{"type": "quad", "size": [2, 2], "material": "W"}],
- "materials": [{"match": {"material": "W"}, "file": "$src/scenes/cornell.tex", "entry": "wall"}],
+ "materials": [{"match": {"material": "W"}, "file": "$tmp/grey.tex", "entry": "wall"}],
  "render": {"max_depth": 3}}
 JSON
 expect_exit 0 "--max-depth 0" "$tex" render "$tmp/depth3.json" --spp 1 --res 8x8 --max-depth 0 -o "$tmp/x.exr"
@@ -149,7 +150,7 @@ echo "$out" | grep -q "max depth 0;" || fail "--max-depth 0 did not override the
 # A camera aspect that the image's shape overrules draws a warning.
 cat > "$tmp/aspect.json" <<JSON
 {"shapes": [{"type": "quad", "size": [2, 2], "material": "W"}],
- "materials": [{"match": {"material": "W"}, "file": "$src/scenes/cornell.tex", "entry": "wall"}],
+ "materials": [{"match": {"material": "W"}, "file": "$tmp/grey.tex", "entry": "wall"}],
  "camera": {"from": [0, 0, 3], "aspect": 2}, "render": {"spp": 1}}
 JSON
 expect_exit 0 "camera aspect" "$tex" render "$tmp/aspect.json" --res 16x16 -o "$tmp/x.exr"
@@ -157,6 +158,23 @@ echo "$out" | grep -q "aspect 2 is overruled by the image's 16x16" || fail "an o
 expect_exit 0 "camera aspect sets the height" "$tex" render "$tmp/aspect.json" -q -o "$tmp/aspect.exr"
 expect_exit 0 "compare aspect" "$tex" compare --json "$tmp/aspect.exr" "$tmp/aspect.exr"
 echo "$out" | grep -q '"width": 512, "height": 256' || fail "the camera aspect did not set the height with a render object: $out"
+
+# Cameras and geometry beyond 1e15 units are errors (Embree aborted on their ray origins).
+for cam in '"from": [1e19, 0, 0]' '"type": "thinlens", "from": [0, 0, 3], "lens_radius": 1e19' '"type": "orthographic", "from": [0, 0, 3], "ymag": 1e19'; do
+  cat > "$tmp/far.json" <<JSON
+{"shapes": [{"type": "quad", "size": [2, 2], "material": "W"}],
+ "materials": [{"match": {"material": "W"}, "file": "$tmp/grey.tex", "entry": "wall"}],
+ "camera": {$cam}}
+JSON
+  expect_exit 1 "camera beyond range ($cam)" "$tex" render "$tmp/far.json" --spp 1 --res 8x8 -q -o "$tmp/x.exr"
+  echo "$out" | grep -q "beyond 1e15 units" || fail "a camera beyond range is not a clear error ($cam): $out"
+done
+cat > "$tmp/huge.json" <<JSON
+{"shapes": [{"type": "quad", "size": [1e18, 1e18], "material": "W"}],
+ "materials": [{"match": {"material": "W"}, "file": "$tmp/grey.tex", "entry": "wall"}]}
+JSON
+expect_exit 1 "geometry beyond range" "$tex" render "$tmp/huge.json" --spp 1 --res 8x8 -q -o "$tmp/x.exr"
+echo "$out" | grep -q "geometry reaches beyond 1e15" || fail "geometry beyond range is not a clear error: $out"
 
 # tex eval: Ctrl-C keeps the partial image (exit 130), as tex render does.
 expect_interrupted eval "$tmp/e.log" "$tmp/eval_part.png" "interrupted" \
