@@ -15,7 +15,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <exception>
+#include <fstream>
+#include <iterator>
 #include <set>
 
 namespace tex {
@@ -77,11 +80,68 @@ std::string readPng(const std::string& path, RgbImage& out) {
   return "";
 }
 
+// Walks a Radiance file's scanlines as stb_image will decode them and says what is missing or
+// malformed: stb_image reads past the end of a truncated file as zeros and returns a picture
+// (half a sky came back black, random bytes a sky of 1e9), so the structure is checked first.
+// Scanlines are flat RGBE or the new run-length encoding (4, then the width, then each channel
+// as runs: a count above 128 repeats the next byte count - 128 times, else count bytes follow).
+std::string checkRadianceHdrData(const std::vector<unsigned char>& bytes) {
+  size_t at = 0;
+  auto line = [&](std::string& text) {
+    text.clear();
+    while (at < bytes.size() && bytes[at] != '\n') text += char(bytes[at++]);
+    if (at >= bytes.size()) return false;
+    ++at;
+    return true;
+  };
+  std::string text;
+  do {
+    if (!line(text)) return "the header does not end";
+  } while (!text.empty());
+  if (!line(text)) return "no resolution line";
+  int height = 0, width = 0;
+  char rest = 0;
+  if (std::sscanf(text.c_str(), "-Y %d +X %d%c", &height, &width, &rest) != 2 || width <= 0 || height <= 0)
+    return "unsupported resolution line \"" + text + "\" (expected \"-Y height +X width\")";
+  for (int y = 0; y < height; ++y) {
+    const std::string where = "scanline " + std::to_string(y) + " of " + std::to_string(height);
+    const bool rle = width >= 8 && width < 32768 && at + 4 <= bytes.size() && bytes[at] == 2 && bytes[at + 1] == 2 &&
+                     ((int(bytes[at + 2]) << 8) | bytes[at + 3]) == width;
+    if (!rle) {  // stb_image then reads this and every later scanline flat
+      const size_t complete = (bytes.size() - at) / 4 / size_t(width);
+      if (complete < size_t(height - y))
+        return "the pixels stop in scanline " + std::to_string(y + complete) + " of " + std::to_string(height) + " (the file is truncated)";
+      return "";
+    }
+    at += 4;
+    for (int c = 0; c < 4; ++c) {
+      for (int x = 0; x < width;) {
+        if (at >= bytes.size()) return where + " is cut short (the file is truncated)";
+        int count = bytes[at++];
+        const bool run = count > 128;
+        if (run) count -= 128;
+        if (count == 0 || count > width - x) return where + " has a run of " + std::to_string(count) + " past its width";
+        const size_t need = run ? 1 : size_t(count);
+        if (bytes.size() - at < need) return where + " is cut short (the file is truncated)";
+        at += need;
+        x += count;
+      }
+    }
+  }
+  return "";
+}
+
 // Radiance RGBE (.hdr), as HDR environment maps are commonly shipped: linear floats.
 std::string readRadianceHdr(const std::string& path, RgbImage& out) {
   if (!stbi_is_hdr(path.c_str())) {
     const char* reason = stbi_failure_reason();
     return path + ": not a Radiance HDR file" + (reason ? std::string(" (") + reason + ")" : std::string());
+  }
+  {
+    std::ifstream file(path, std::ios::binary);
+    const std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+    const std::string problem = checkRadianceHdrData(bytes);
+    if (!problem.empty()) return path + ": malformed Radiance HDR: " + problem;
   }
   int width = 0, height = 0, channelsInFile = 0;
   float* data = stbi_loadf(path.c_str(), &width, &height, &channelsInFile, 3);

@@ -44,9 +44,14 @@ ImageEnvironment::ImageEnvironment(const RgbImage& image, const Mat4& environmen
       for (int k = 0; k < 3; ++k) {
         const float v = valid ? image.rgb[i * 3 + k] * scale : 0.0f;
         broken = broken || !std::isfinite(v) || v < 0.0f;
-        c[k] = std::isfinite(v) && v > 0.0f ? v : 0.0f;  // negative or broken pixels emit nothing
+        c[k] = v;
       }
-      if (broken) dropped.fetch_add(1, std::memory_order_relaxed);
+      // A pixel with a NaN, infinite or negative channel emits nothing at all (its other
+      // channels are as suspect as the broken one).
+      if (broken) {
+        dropped.fetch_add(1, std::memory_order_relaxed);
+        c = Vec3(0.0f);
+      }
       fitted_[i] = rgbToUnbounded(c);
       luminance_[i] = std::max(0.0f, luminanceOf(c));
     }

@@ -376,11 +376,18 @@ class Importer {
     if (light.color.size() == 3 && std::isfinite(light.color[0]) && std::isfinite(light.color[1]) &&
         std::isfinite(light.color[2]))
       desc.emission.rgb = Vec3(float(light.color[0]), float(light.color[1]), float(light.color[2]));
-    if (!(std::isfinite(light.intensity) && light.intensity >= 0.0)) {
+    if (!std::isfinite(light.intensity)) {
       in_.warn("light " + std::to_string(index) + " has intensity " + std::to_string(light.intensity) + "; ignored");
       return;
     }
-    desc.intensity = float(light.intensity);  // cd (or lux) taken as W/sr (W/m^2): docs/scene-format.md
+    // Negative: clamped to a dark light, which is kept (dropped, it let the renderer light a
+    // scene that has a light with its default sky).
+    double intensity = light.intensity;
+    if (intensity < 0.0) {
+      in_.warn("light " + std::to_string(index) + " has negative intensity " + std::to_string(intensity) + "; clamped to 0");
+      intensity = 0.0;
+    }
+    desc.intensity = float(intensity);  // cd (or lux) taken as W/sr (W/m^2): docs/scene-format.md
     desc.position = Vec3(world * Vec4(0, 0, 0, 1));
     const Vec3 forward = Vec3(world * Vec4(0, 0, -1, 0));  // lights shine down local -z
     if (glm::length(forward) > 0.0f) desc.direction = glm::normalize(forward);

@@ -283,6 +283,10 @@ class SceneJsonLoader {
       if (!r_.checkKeys(at, {"type", "name", "emission", "intensity", "direction"}) || !direction(at, l)) return;
     } else if (type == "environment") {
       if (!r_.checkKeys(at, {"type", "name", "emission", "intensity", "image", "transform"})) return;
+      // An image environment's colour is its image's (times intensity): an emission would be
+      // ignored, so it is an error rather than a silent no-op.
+      if (r_.child(at, "image") && r_.child(at, "emission"))
+        return r_.error(r_.child(at, "emission"), "an image environment takes its colour from the image; scale it with \"intensity\"");
       l.kind = LightDesc::Kind::ConstantEnvironment;
       if (const JsonAt image = r_.child(at, "image")) {
         std::string file;

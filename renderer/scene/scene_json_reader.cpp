@@ -135,14 +135,18 @@ bool SceneJsonReader::number(const JsonAt& object, const char* key, float& out, 
   if (!at) return true;
   if (!at.j->is_number()) return error(at, "expected a number, got " + typeName(*at.j)), false;
   const double v = at.j->get<double>();
-  if (!std::isfinite(v) || !std::isfinite(float(v)) || v < min || v > max) {
+  if (std::isfinite(v) && !std::isfinite(float(v)))
+    return error(at, "is beyond the range of a 32-bit float (about 3.4e38)"), false;
+  // Compared as the float it becomes: a documented bound written in the file (fov_deg 0.001)
+  // is the float bound, whatever the double's last digits.
+  if (!std::isfinite(v) || float(v) < min || float(v) > max) {
     const auto text = [](float x) {
       char buf[32];
       std::snprintf(buf, sizeof(buf), "%g", double(x));
       return std::string(buf);
     };
     // A tiny positive minimum (1e-30) stands for "greater than 0".
-    const std::string lower = min > 0.0f && min <= 1e-20f ? "> 0" : ">= " + text(min);
+    const std::string lower = min > 0.0f && min <= 1e-20f ? "> 0 (at least " + text(min) + ")" : ">= " + text(min);
     std::string range = std::isinf(max) ? lower : "in [" + text(min) + ", " + text(max) + "]";
     if (min > 0.0f && min <= 1e-20f && !std::isinf(max)) range = "in (0, " + text(max) + "]";
     if (std::isinf(min) && std::isinf(max)) range = "finite";

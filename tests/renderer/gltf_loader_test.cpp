@@ -892,6 +892,18 @@ TEST_F(GltfMutated, SpotLightAndCamerasOnRotatedNodes) {
   EXPECT_NEAR(glm::dot(l.direction, Vec3(0, -1, 0)), 1.0f, 1e-6f);
   EXPECT_FLOAT_EQ(l.innerConeRadians, 0.2f);
   EXPECT_FLOAT_EQ(l.outerConeRadians, 0.4f);
+  {
+    // A negative intensity is clamped to a dark light that stays (docs/scene-format.md), so
+    // the renderer does not replace the scene's lighting by its default sky.
+    json dark = doc;
+    dark["extensions"]["KHR_lights_punctual"]["lights"][0]["intensity"] = -5;
+    std::vector<std::string> darkErrors;
+    const auto darkScene = loadGltf(write("dark.gltf", dark.dump()), darkErrors);
+    ASSERT_TRUE(darkScene);
+    ASSERT_EQ(darkScene->lights.size(), 1u);
+    EXPECT_EQ(darkScene->lights[0].intensity, 0.0f);
+    EXPECT_TRUE(anyContains(darkScene->warnings, "clamped to 0"));
+  }
   ASSERT_EQ(scene->cameras.size(), 2u);
   const CameraDesc& c = scene->cameras[0];
   EXPECT_NEAR(glm::dot(Vec3(c.cameraToWorld * Vec4(0, 0, -1, 0)), Vec3(0, -1, 0)), 1.0f, 1e-6f);

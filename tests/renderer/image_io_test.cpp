@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
 
 #include <stb/stb_image_write.h>
 
@@ -104,6 +105,26 @@ TEST(ImageIo, RadianceHdrReadsLinearValuesAboveOne) {
   std::filesystem::resize_file(path, 40);
   const std::string truncated = readRgbImage(path, back);
   EXPECT_NE(truncated.find(path), std::string::npos) << truncated;
+  // Cut inside the pixels, flat (width 4) or run-length encoded (width 40): stb_image alone
+  // returned the missing part as black (a truncated sky lit a floor 2.2x too bright).
+  for (const int width : {4, 40}) {
+    RgbImage sky = gradient(width, 6);
+    for (float& v : sky.rgb) v = v * 3.0f + 0.5f;
+    ASSERT_NE(stbi_write_hdr(path.c_str(), sky.width, sky.height, 3, sky.rgb.data()), 0);
+    ASSERT_EQ(readRgbImage(path, back), "") << width;
+    std::filesystem::resize_file(path, std::filesystem::file_size(path) - 7);
+    const std::string cut = readRgbImage(path, back);
+    EXPECT_NE(cut.find("truncated"), std::string::npos) << width << ": " << cut;
+  }
+  // A run longer than the scanline's remaining width is malformed.
+  {
+    std::ofstream bad(path, std::ios::binary);
+    bad << "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 1 +X 8\n";
+    const unsigned char scanline[] = {2, 2, 0, 8, 128 + 9, 7};
+    bad.write(reinterpret_cast<const char*>(scanline), sizeof scanline);
+  }
+  const std::string longRun = readRgbImage(path, back);
+  EXPECT_NE(longRun.find("past its width"), std::string::npos) << longRun;
   std::filesystem::remove(path);
   std::filesystem::remove(png);
   std::filesystem::remove(tempPath("real.png"));

@@ -743,6 +743,11 @@ TEST(ImageEnvironmentLight, BrokenPixelsEmitNothingAndAreCounted) {
   image.rgb[7] = -2.0f;                                     // still pixel 2
   const ImageEnvironment env(image, Mat4(1.0f));
   EXPECT_EQ(env.droppedPixels(), 3u);
+  // Dropped whole: the same power as the image with those pixels black (only the broken
+  // channel used to be zeroed, and a (NaN, 5, 5) pixel still lit the scene cyan).
+  RgbImage black = image;
+  for (size_t k = 0; k < 9; ++k) black.rgb[k] = 0.0f;
+  EXPECT_EQ(env.power(), ImageEnvironment(black, Mat4(1.0f)).power());
   image.rgb.assign(4 * 2 * 3, 0.5f);
   EXPECT_EQ(ImageEnvironment(image, Mat4(1.0f)).droppedPixels(), 0u);
 }

@@ -160,6 +160,13 @@ TEST(SceneJson, CommentKeysAreIgnoredAtEveryLevel) {
   EXPECT_TRUE(scene->texMaterials[0].params.empty());
 }
 
+// An image environment ignores emission, so giving one is an error (it was accepted silently).
+TEST(SceneJson, ImageEnvironmentWithEmissionIsAnError) {
+  const std::string error =
+      firstError(R"({"lights": [{"type": "environment", "image": "sky.exr", "emission": {"rgb": [1, 0, 0]}}]})");
+  EXPECT_NE(error.find("takes its colour from the image"), std::string::npos) << error;
+}
+
 TEST(SceneJson, DuplicateKeyIsAnError) {
   const std::string error = firstError("{\"render\": {\"spp\": 4,\n \"spp\": 8}}");
   EXPECT_EQ(error.rfind("scene.json:2:2: ", 0), 0u) << error;
@@ -200,6 +207,11 @@ TEST(SceneJson, WrongTypesAndRanges) {
             std::string::npos);
   EXPECT_NE(firstError(R"({"lights": [{"type": "laser"}]})").find("unknown light type \"laser\""), std::string::npos);
   EXPECT_NE(firstError(R"({"lights": [{"type": "point", "intensity": -1}]})").find("must be >= 0"), std::string::npos);
+  // Beyond a float: said so, not "must be >= 0"; a documented minimum written in the file
+  // is accepted (0.001 as a double is above the float 1e-3f it is compared with).
+  EXPECT_NE(firstError(R"({"lights": [{"type": "point", "intensity": 1e39}]})").find("32-bit float"), std::string::npos);
+  std::vector<std::string> errors;
+  EXPECT_TRUE(parse(R"({"camera": {"fov_deg": 0.001}})", errors)) << (errors.empty() ? "" : errors[0]);
   EXPECT_NE(firstError(R"({"shapes": [{"type": "sphere", "radius": "big"}]})").find("expected a number"), std::string::npos);
   EXPECT_NE(firstError(R"({"shapes": [{"type": "torus"}]})").find("unknown shape type \"torus\""), std::string::npos);
   EXPECT_NE(firstError(R"({"camera": {"from": [0, 0, 0], "to": [0, 0, 0]}})").find("same point"), std::string::npos);
