@@ -245,7 +245,14 @@ int runRender(const Args& args) {
   if (rs->addedDefaultLight())
     std::fprintf(stderr, "tex render: note: %s has no lights; lighting it with a uniform white sky of radiance 1\n",
                  f.scene.c_str());
-  const sampling::Sampler sampler(f.sampler, s.seed);
+  sampling::PixelGrid grid;
+  grid.width = filmWidth;
+  grid.height = filmHeight;
+  grid.originX = filmX;
+  grid.originY = filmY;
+  grid.imageWidth = s.width;
+  grid.imageHeight = s.height;
+  const sampling::Sampler sampler(f.sampler, s.seed, grid);
   render::PathTracerSettings pts;
   pts.maxDepth = s.maxDepth;
   pts.rouletteDepth = s.rouletteDepth;

@@ -100,12 +100,12 @@ std::optional<SpectralMode> parseSpectralMode(const std::string& name) {
 SampleRecord PathTracer::record(uint64_t index) const {
   PathCounters& counters = counters_.local();
   SampleRecord rec;
-  const sampling::FilmPosition film = sampler_.filmPosition(index);
+  const sampling::IndexSampler samples(sampler_, index);
+  const sampling::FilmPosition film = samples.filmPosition();
   rec.filmX = film.x;
   rec.filmY = film.y;
   rec.weight = 1.0f;
   rec.technique = kTechniqueCamera;
-  const sampling::IndexSampler samples(sampler_, index);
   // The hero lane's choice is stratified with the group (Sobol dimensions 2 and 3 form a
   // (0,2)-sequence's projection) where the lens leaves dimension 3 free; otherwise a hash.
   const float uHero = scene_.camera().usesLens() ? samples.independent(kHeroLaneStream) : samples.get(kLensDimension);

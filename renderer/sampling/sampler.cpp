@@ -8,6 +8,11 @@
 
 namespace tex::sampling {
 
+Sampler::Sampler(SamplerKind kind, uint64_t seed, const PixelGrid& grid) : Sampler(kind, seed) {
+  hasGrid_ = grid.valid();
+  if (hasGrid_) pixels_ = PixelSampleMap(grid, filmScrambleSeeds_);
+}
+
 Sampler::Sampler(SamplerKind kind, uint64_t seed) : kind_(kind), seed_(seed) {
   filmScrambleSeeds_[0] = sobolScrambleSeed(seed, 0, 0);
   filmScrambleSeeds_[1] = sobolScrambleSeed(seed, 1, 0);
@@ -39,17 +44,27 @@ const uint32_t* highBytesXorOfBlock(uint32_t indexHigh) {
 
 }  // namespace
 
-IndexSampler::IndexSampler(const Sampler& sampler, uint64_t index)
-    : sampler_(sampler),
-      index_(index),
-      fast_(sampler.kind_ == SamplerKind::Sobol && (index >> 32) == 0),
-      lowByte_(uint32_t(index) & 0xffu),
-      seeds_(sampler.scrambleSeeds_->data()) {
+namespace {
+PixelSample mapped(const Sampler& sampler, const PixelSampleMap& map, uint64_t index) {
+  if (sampler.hasPixelGrid()) return map.map(index);
+  PixelSample ps;
+  ps.sobolIndex = index;
+  return ps;
+}
+}  // namespace
+
+IndexSampler::IndexSampler(const Sampler& sampler, uint64_t index) : sampler_(sampler) {
+  const PixelSample ps = mapped(sampler, sampler.pixels_, index);
+  index_ = ps.sobolIndex;
+  film_ = sampler.hasGrid_ ? sampler.pixelFilmPosition(ps) : sampler.filmPosition(index);
+  fast_ = sampler.kind_ == SamplerKind::Sobol && (index_ >> 32) == 0;
+  lowByte_ = uint32_t(index_) & 0xffu;
+  seeds_ = sampler.scrambleSeeds_->data();
   // Uninitialised otherwise: get() then never reads it.
-  if (fast_) std::memcpy(highBytesXor_, highBytesXorOfBlock(uint32_t(index) >> 8), sizeof highBytesXor_);
+  if (fast_) std::memcpy(highBytesXor_, highBytesXorOfBlock(uint32_t(index_) >> 8), sizeof highBytesXor_);
 }
 
-uint32_t Sampler::getBits(uint64_t index, int dimension) const {
+uint32_t Sampler::getBitsAt(uint64_t index, int dimension) const {
   if (kind_ == SamplerKind::Sobol) return sobolOwenBits(seed_, index, dimension);
   return randomBits(seed_, index, dimension);
 }

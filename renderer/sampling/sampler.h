@@ -12,6 +12,7 @@
 #include <string>
 
 #include "renderer/sampling/hash.h"
+#include "renderer/sampling/pixel_grid.h"
 #include "renderer/sampling/sobol.h"
 
 namespace tex::sampling {
@@ -37,9 +38,18 @@ inline float scrambledReversedToUnitFloat(uint32_t reversedBits, uint32_t seed) 
 class Sampler {
  public:
   Sampler(SamplerKind kind, uint64_t seed);
+  // A sampler of a render's pixel grid (pixel_grid.h): index i is a sample of pixel
+  // i mod (W H), and each pixel gets its own block of Sobol points. Without a grid the sample
+  // index is the point's index in one film-wide sequence (kernels over the unit square).
+  Sampler(SamplerKind kind, uint64_t seed, const PixelGrid& grid);
 
   // Coordinate `dimension` of sample `index`, in [0,1).
   float get(uint64_t index, int dimension) const {
+    if (hasGrid_) return getAt(pixels_.map(index).sobolIndex, dimension);
+    return getAt(index, dimension);
+  }
+  // Coordinate `dimension` of point `pointIndex` of the sequence itself (no pixel mapping).
+  float getAt(uint64_t index, int dimension) const {
     if (kind_ == SamplerKind::Sobol && (index >> 32) == 0) {
       // The tables give the reversed Sobol bits (scrambledReversedToUnitFloat).
       if (unsigned(dimension) < unsigned(kSobolByteTableDimensions))
@@ -48,28 +58,52 @@ class Sampler {
       if (unsigned(dimension) < unsigned(kSobolDimensions))
         return bitsToUnitFloat(owenScramble(sobolBits(uint32_t(index), dimension), (*scrambleSeeds_)[size_t(dimension)]));
     }
-    return bitsToUnitFloat(getBits(index, dimension));
+    return bitsToUnitFloat(getBitsAt(index, dimension));
   }
   // 32 fixed-point bits of the same coordinate (for exact stratification tests).
-  uint32_t getBits(uint64_t index, int dimension) const;
+  uint32_t getBits(uint64_t index, int dimension) const {
+    return getBitsAt(hasGrid_ ? pixels_.map(index).sobolIndex : index, dimension);
+  }
+  uint32_t getBitsAt(uint64_t pointIndex, int dimension) const;
   // Dimensions 0 and 1: where sample `index` lands on the film (inline: every kernel calls it
   // once per index).
   FilmPosition filmPosition(uint64_t index) const {
-    if (kind_ == SamplerKind::Sobol && (index >> 32) == 0) {
-      uint32_t x = 0, y = 0;
-      sobolFirstTwoReversed(uint32_t(index), x, y);
-      return {bitsToUnitFloat(reverseBits32(laineKarrasPermutation(x, filmScrambleSeeds_[0]))),
-              bitsToUnitFloat(reverseBits32(laineKarrasPermutation(y, filmScrambleSeeds_[1])))};
-    }
+    if (hasGrid_) return pixelFilmPosition(pixels_.map(index));
+    if (kind_ == SamplerKind::Sobol && (index >> 32) == 0) return sobolFilmPosition(uint32_t(index));
     return filmPositionGeneral(index);
   }
 
   SamplerKind kind() const { return kind_; }
   uint64_t seed() const { return seed_; }
+  bool hasPixelGrid() const { return hasGrid_; }
 
  private:
   friend class IndexSampler;
   FilmPosition filmPositionGeneral(uint64_t index) const;
+  // The film position of a mapped sample: its pixel plus the offset of dimensions 0 and 1.
+  // The point's position within its cell of 2^r x 2^r (the fraction of 2^r times its film
+  // coordinates) placed in the sample's pixel: exactly the point itself when it lies in that
+  // cell (Sobol indices below 2^32; above, the scramble changes per 2^32 block and only the
+  // offset is kept). At square power-of-two resolutions without a crop this is the film-wide
+  // position bit for bit (every step is exact in float).
+  FilmPosition pixelFilmPosition(const PixelSample& ps) const {
+    const FilmPosition point = ps.sobolIndex >> 32 == 0 && kind_ == SamplerKind::Sobol ? sobolFilmPosition(uint32_t(ps.sobolIndex))
+                                                                                      : filmPositionGeneral(ps.sobolIndex);
+    const PixelGrid& g = pixels_.grid();
+    const float cells = float(uint32_t(1) << pixels_.cellBits());
+    const float cx = point.x * cells, cy = point.y * cells;
+    const float ox = cx - float(int(cx)), oy = cy - float(int(cy));  // in [0, 1)
+    return {std::min((float(ps.x) + ox) / float(g.width), 0x1.fffffep-1f),
+            std::min((float(ps.y) + oy) / float(g.height), 0x1.fffffep-1f)};
+  }
+  FilmPosition sobolFilmPosition(uint32_t index) const {
+    uint32_t x = 0, y = 0;
+    sobolFirstTwoReversed(index, x, y);
+    return {bitsToUnitFloat(reverseBits32(laineKarrasPermutation(x, filmScrambleSeeds_[0]))),
+            bitsToUnitFloat(reverseBits32(laineKarrasPermutation(y, filmScrambleSeeds_[1])))};
+  }
+  bool hasGrid_ = false;
+  PixelSampleMap pixels_;
   SamplerKind kind_;
   uint64_t seed_;
   uint32_t filmScrambleSeeds_[2];  // Sobol scramble seeds of dimensions 0, 1 for indices < 2^32
@@ -85,14 +119,19 @@ class Sampler {
 // spread over a 4 KB table.
 class IndexSampler {
  public:
+  // `index` is the sample index (mapped to its pixel and Sobol point when the sampler has a
+  // pixel grid).
   IndexSampler(const Sampler& sampler, uint64_t index);
   float get(int dimension) const {
     if (fast_ && unsigned(dimension) < unsigned(kSobolByteTableDimensions)) {
       const uint32_t reversed = kSobolReversedByteTables[dimension][0][lowByte_] ^ highBytesXor_[dimension];
       return scrambledReversedToUnitFloat(reversed, seeds_[dimension]);
     }
-    return sampler_.get(index_, dimension);
+    return sampler_.getAt(index_, dimension);
   }
+  // Where the sample lies on the film (Sampler::filmPosition of the sample index).
+  FilmPosition filmPosition() const { return film_; }
+  // The sequence point's index (the sample index itself without a pixel grid).
   uint64_t index() const { return index_; }
   // A uniform [0,1) number independent of every dimension (a hash of seed, index and
   // `stream`), for choices whose stratification would not reduce any error.
@@ -102,7 +141,8 @@ class IndexSampler {
 
  private:
   const Sampler& sampler_;
-  uint64_t index_;
+  uint64_t index_;    // the point's index in the sequence
+  FilmPosition film_;
   bool fast_;         // Sobol and index < 2^32
   uint32_t lowByte_;  // index & 0xff
   const uint32_t* seeds_;

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cmath>
 #include <random>
 #include <thread>
 #include <vector>
@@ -195,6 +196,72 @@ TEST(Pcg, AdvanceEqualsSteppingAndUniformityChiSquare) {
   double chi2 = 0;
   for (int c : counts) chi2 += (c - 400.0) * (c - 400.0) / 400.0;
   EXPECT_LT(chi2, 330.5);
+}
+
+// A render's pixel grid (pixel_grid.h): every pixel gets exactly its samples at any
+// resolution, each pixel's s-th sample is the point of the film-wide sequence's block s that
+// lies in its cell (so its film offsets are stratified), square power-of-two films get the
+// film-wide positions bit for bit, and a crop window's pixels get the full image's points.
+TEST(PixelGrid, EveryPixelGetsItsSamplesFromItsOwnCellOfEachBlock) {
+  struct Case {
+    int width, height;
+  };
+  for (const Case c : {Case{100, 37}, Case{1, 1}, Case{3, 300}, Case{64, 64}}) {
+    PixelGrid grid;
+    grid.width = grid.imageWidth = c.width;
+    grid.height = grid.imageHeight = c.height;
+    const Sampler plain(SamplerKind::Sobol, 9);
+    const Sampler gridded(SamplerKind::Sobol, 9, grid);
+    const int spp = 16;
+    const int cells = int(std::bit_ceil(unsigned(std::max(c.width, c.height))));
+    std::vector<std::vector<FilmPosition>> perPixel(size_t(c.width) * size_t(c.height));
+    for (uint64_t i = 0; i < uint64_t(c.width) * uint64_t(c.height) * spp; ++i) {
+      const IndexSampler samples(gridded, i);
+      const FilmPosition f = samples.filmPosition();
+      ASSERT_EQ(f.x, gridded.filmPosition(i).x);
+      ASSERT_EQ(f.y, gridded.filmPosition(i).y);
+      ASSERT_EQ(samples.get(5), gridded.get(i, 5));
+      const int px = int(f.x * float(c.width)), py = int(f.y * float(c.height));
+      ASSERT_TRUE(px >= 0 && px < c.width && py >= 0 && py < c.height);
+      perPixel[size_t(py) * size_t(c.width) + size_t(px)].push_back(f);
+      // The Sobol point itself lies in the pixel's cell of 2^r x 2^r, in block i / (W H).
+      const FilmPosition point = plain.filmPosition(samples.index());
+      ASSERT_EQ(int(point.x * float(cells)), px) << c.width << "x" << c.height << " index " << i;
+      ASSERT_EQ(int(point.y * float(cells)), py) << c.width << "x" << c.height << " index " << i;
+      ASSERT_EQ(samples.index() >> (2 * std::bit_width(unsigned(cells) - 1)), i / (uint64_t(c.width) * c.height));
+      if (c.width == c.height && std::has_single_bit(unsigned(c.width))) {
+        ASSERT_EQ(f.x, point.x);
+        ASSERT_EQ(f.y, point.y);
+      }
+    }
+    for (const auto& samples : perPixel) {
+      ASSERT_EQ(samples.size(), size_t(spp)) << c.width << "x" << c.height;
+      // The 16 offsets within the pixel are a (0,4,2)-net: one per 1/4 x 1/4 stratum.
+      std::vector<int> strata(16, 0);
+      for (const FilmPosition& f : samples) {
+        const float ox = f.x * float(c.width) - std::floor(f.x * float(c.width));
+        const float oy = f.y * float(c.height) - std::floor(f.y * float(c.height));
+        ++strata[size_t(int(ox * 4) * 4 + int(oy * 4))];
+      }
+      EXPECT_EQ(*std::max_element(strata.begin(), strata.end()), 1) << c.width << "x" << c.height;
+    }
+  }
+  // A crop window's pixels draw the full image's points.
+  PixelGrid full, crop;
+  full.width = full.imageWidth = crop.imageWidth = 90;
+  full.height = full.imageHeight = crop.imageHeight = 70;
+  crop.width = 20, crop.height = 10, crop.originX = 33, crop.originY = 41;
+  const Sampler whole(SamplerKind::Sobol, 4, full), window(SamplerKind::Sobol, 4, crop);
+  std::vector<uint64_t> fullPoints, windowPoints;
+  for (uint64_t i = 0; i < 90 * 70 * 4; ++i) {
+    const FilmPosition f = whole.filmPosition(i);
+    const int px = int(f.x * 90), py = int(f.y * 70);
+    if (px >= 33 && px < 53 && py >= 41 && py < 51) fullPoints.push_back(IndexSampler(whole, i).index());
+  }
+  for (uint64_t i = 0; i < 20 * 10 * 4; ++i) windowPoints.push_back(IndexSampler(window, i).index());
+  std::sort(fullPoints.begin(), fullPoints.end());
+  std::sort(windowPoints.begin(), windowPoints.end());
+  EXPECT_EQ(fullPoints, windowPoints);
 }
 
 }  // namespace
