@@ -148,6 +148,9 @@ int runDevelop(const Args& args) {
   const std::vector<runtime::IndexRange> ranges = runtime::mergeRanges(allRanges);
   const uint64_t samples = runtime::totalSize(ranges);
   const DevelopedImage image = film.develop(estimator, samples);
+  if (image.unstablePixels > 0)
+    std::fprintf(stderr, "tex develop: warning: in %llu pixels the filter's weights nearly cancel (too few samples per pixel for its negative lobes): their values are unreliable\n",
+                 (unsigned long long)image.unstablePixels);
   if (image.saturatedPixels > 0)
     std::fprintf(stderr, "tex develop: warning: %llu pixels saturated the film (values beyond about 5e11 per pixel, summed over its samples): their values and variances are wrong\n",
                  (unsigned long long)image.saturatedPixels);

@@ -323,6 +323,9 @@ int runRender(const Args& args) {
 
   const render::PathCounters counters = tracer.counters();
   const DevelopedImage image = filmSink.film().develop();
+  if (image.unstablePixels > 0)
+    std::fprintf(stderr, "tex render: warning: in %llu pixels the %s filter's weights nearly cancel (too few samples for its negative lobes): their values are unreliable\n",
+                 (unsigned long long)image.unstablePixels, filterName(f.filter));
   if (image.saturatedPixels > 0)
     std::fprintf(stderr, "tex render: warning: %llu pixels saturated the film (values beyond about 5e11 per pixel, summed over its samples): their values and variances are wrong\n",
                  (unsigned long long)image.saturatedPixels);

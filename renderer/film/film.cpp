@@ -350,6 +350,7 @@ DevelopedImage FilmAccumulator::develop(FilmEstimator estimator, uint64_t sample
     image.weightSum[p] = float(sumA);
     if (sumA == 0.0) continue;
     const double nEff = sumA2 > 0 ? sumA * sumA / sumA2 : 0.0;
+    image.unstablePixels += sumA2 > 0 && nEff < 0.5;  // (sumA2 0: weights too small for the fixed point)
     for (int k = 0; k < 3; ++k) {
       const int64_t sumAC = scalar_ ? s[kScalarAC] : s[kSumAC + k], sumAC2 = scalar_ ? s[kScalarAC2] : s[kSumAC2 + k];
       const double mean = fromFixed(sumAC) / sumA;

@@ -46,6 +46,10 @@ struct DevelopedImage {
   // Pixels with a sum at the film's fixed-point limit (about 5.5e11 per pixel; sums of squares
   // for the variance get there first): their values are wrong and must be reported.
   uint64_t saturatedPixels = 0;
+  // Pixels whose filter weights nearly cancel (a negative-lobed filter such as Mitchell with
+  // few samples: effective sample count (sum a)^2 / sum a^2 below 1/2), so that the weighted
+  // mean divides by almost nothing (-21 .. 19.5 on a constant sky at 1 spp). Reported.
+  uint64_t unstablePixels = 0;
 
   RgbImage rgbImage() const { return {width, height, rgb}; }
   // EXR channels R, G, B [, variance.R/G/B] [, spectral.<centre>nm ...] with metadata.

@@ -229,6 +229,25 @@ TEST(Film, SumsSaturateInsteadOfWrappingAndDevelopCountsThePixels) {
   }
 }
 
+// Developing a Mitchell film from far fewer samples than pixels leaves pixels whose weights
+// nearly cancel (values in the thousands on a constant image); develop() counts them so that
+// the CLI can warn. Positive filters never have any.
+TEST(Film, PixelsWhoseFilterWeightsCancelAreCounted) {
+  for (const FilterKind filter : {FilterKind::Mitchell, FilterKind::Box, FilterKind::Gaussian}) {
+    FilmAccumulator film(settingsFor(128, 128, filter, ValueKind::Scalar));
+    sampling::Pcg32 rng(5, 7);
+    for (int i = 0; i < 4096; ++i) {
+      SampleRecord r;
+      r.filmX = rng.nextFloat(), r.filmY = rng.nextFloat(), r.weight = 1.0f, r.wavelengthCount = 1;
+      r.values[0] = 1.0f;
+      film.add(r);
+    }
+    const DevelopedImage image = film.develop();
+    if (filter == FilterKind::Mitchell) EXPECT_GT(image.unstablePixels, 100u);
+    else EXPECT_EQ(image.unstablePixels, 0u) << filterName(filter);
+  }
+}
+
 TEST(Film, ColourSplatRoundsExactlyLikeTheScalarConversion) {
   // Colour films convert their eight sums four at a time (SSE2); the integers must be those of
   // round-to-nearest-even with NaN -> 0 and saturation, the huge values' fallback included.

@@ -391,6 +391,46 @@ TEST(PathTracer, SmoothGltfMetalsReflectTheirBaseColourAtNormalIncidence) {
   }
 }
 
+// glTF dielectrics seen head-on under a white sky: over a black base the Fresnel coat still
+// reflects F(0) = ((ior - 1) / (ior + 1))^2 (its base lobe, of weight 0, was dropped and the
+// path stopped at an "empty" Bsdf: black glossy materials reflected nothing), and an ior of 1
+// (KHR_materials_ior: no specular reflection) leaves the base alone (it was replaced by 1.5).
+TEST(PathTracer, GltfCoatsReflectFresnelOverBlackAndNothingAtIorOne) {
+  struct Case {
+    Vec3 base;
+    float ior, expected;
+  };
+  for (const Case c : {Case{Vec3(0.0f), 1.5f, 0.04f}, Case{Vec3(0.0f), 2.0f, 1.0f / 9.0f}, Case{Vec3(0.5f), 1.0f, 0.5f}}) {
+    SceneDescription scene;
+    MeshPrimitive quad = makeQuad(Vec3(-1.0f, -1.0f, 0.0f), Vec3(2.0f, 0.0f, 0.0f), Vec3(0.0f, 2.0f, 0.0f));
+    quad.material = 0;
+    scene.primitives.push_back(std::move(quad));
+    scene.instances.push_back(MeshInstance{0, Mat4(1.0f), "slab"});
+    GltfMaterial m;
+    m.name = "coated";
+    m.baseColorFactor = Vec4(c.base, 1.0f);
+    m.metallicFactor = 0.0f;
+    m.roughnessFactor = 0.0f;
+    m.ior = c.ior;
+    scene.materials.push_back(m);
+    CameraDesc camera = test::cameraLookingDownZ(Vec3(0.0f, 0.0f, 3.0f), 0.5f);
+    camera.orthoHalfHeight = 0.5f;
+    scene.cameras.push_back(camera);
+    scene.lights.push_back(whiteRgbSky());
+    const std::unique_ptr<RenderScene> rs = buildSquare(scene, 8);
+    ASSERT_TRUE(rs);
+    FilmOptions f;
+    f.width = f.height = 8;
+    f.filter = FilterKind::Box;
+    f.settings.maxDepth = 3;
+    const DevelopedImage img = renderFilm(*rs, 2, 8 * 8 * 256, f).develop();
+    for (int ch = 0; ch < 3; ++ch) {
+      const Estimate e = channelMean(img, ch);
+      EXPECT_NEAR(e.mean, c.expected, 4 * e.standardError + 2e-3) << "ior " << c.ior << " channel " << ch;
+    }
+  }
+}
+
 // An emitter whose radiance reads its Hit (here its shading normal and uv) must give light
 // samples the emission a ray hitting the same point sees: MIS weighs the two techniques, so
 // any difference biases the image. A lamp quad whose vertex normals lean away from its face
