@@ -167,6 +167,7 @@ std::unique_ptr<RenderScene> RenderScene::build(const SceneDescription& scene, c
       d.primitive = scene.instances[size_t(i)].primitive;
       d.instance = i;
       d.triangle = t;
+      d.twoSided = rs->materials_->emitsBothSides(material);
       rs->lights_.push_back(makeTriangleLight(d, source));
       ++rs->triangleLights_;
     }

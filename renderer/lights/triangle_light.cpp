@@ -21,7 +21,8 @@ TriangleLight::TriangleLight(const TriangleLightDesc& desc, const EmissionSource
 
 float TriangleLight::power() const {
   if (!emission_ || !(area_ > 0.0f)) return 0.0f;
-  if (!emissionReadsHit_) return kPi * area_ * emission_->averageRadiance();
+  const float sides = desc_.twoSided ? 2.0f : 1.0f;
+  if (!emissionReadsHit_) return sides * kPi * area_ * emission_->averageRadiance();
   // An emission that varies over the surface (a texture, a pattern): this triangle's own
   // radiance at its centroid and three inner points, so that bright parts are chosen more
   // often. A tenth of the material's average keeps every triangle reachable by light
@@ -30,7 +31,7 @@ float TriangleLight::power() const {
                           Vec2(1.0f / 6.0f, 1.0f / 6.0f)};
   float local = 0.0f;
   for (const Vec2& b : points) local += std::max(emission_->radianceEstimate(pointAt(b)), 0.0f);
-  return kPi * area_ * (0.9f * local / 4.0f + 0.1f * emission_->averageRadiance());
+  return sides * kPi * area_ * (0.9f * local / 4.0f + 0.1f * emission_->averageRadiance());
 }
 
 namespace {
@@ -71,7 +72,7 @@ void TriangleLight::placeOnGeometry(EmitterPoint& e, Vec2 b) const {
 }
 
 Spectrum TriangleLight::L(const EmitterPoint& point, const Vec3& w, const Wavelengths& lambda) const {
-  if (!emission_ || !(dot3(w, n_) > 0.0f)) return Spectrum();
+  if (!emission_ || !(desc_.twoSided || dot3(w, n_) > 0.0f)) return Spectrum();
   return emission_->radiance(point, lambda);
 }
 
@@ -97,8 +98,9 @@ std::optional<LightLiSample> TriangleLight::sampleLiDeferred(const Vec3& refPoin
   }
   const float dist = std::sqrt(dist2);
   const Vec3 wi = toLight / dist;
-  const float cosLight = -dot3(wi, n_);
-  if (!(cosLight > 0.0f)) {  // the back side emits nothing
+  const float cosFront = -dot3(wi, n_);
+  const float cosLight = desc_.twoSided ? std::fabs(cosFront) : cosFront;
+  if (!(cosLight > 0.0f)) {  // the back side emits nothing (unless two-sided)
     result.reset();
     return result;
   }
@@ -112,7 +114,7 @@ std::optional<LightLiSample> TriangleLight::sampleLiDeferred(const Vec3& refPoin
   s.wi = wi;
   s.pLight = pLight;
   s.pLightError = pointError_;
-  s.nLight = n_;
+  s.nLight = cosFront >= 0.0f ? n_ : -n_;  // the side that faces refPoint
   s.distance = dist;
   s.pdfW = pdfW;
   return result;
@@ -143,7 +145,8 @@ float TriangleLight::pdfLi(const Vec3& refPoint, const Vec3& wi, const EmitterPo
   const Vec3 toLight = onLight->p - refPoint;
   const float dist2 = lengthSquared(toLight);
   if (!(dist2 > 0.0f)) return 0.0f;
-  const float cosLight = -dot3(toLight, n_) / std::sqrt(dist2);
+  const float cosFront = -dot3(toLight, n_) / std::sqrt(dist2);
+  const float cosLight = desc_.twoSided ? std::fabs(cosFront) : cosFront;
   if (!(cosLight > 0.0f)) return 0.0f;
   const float pdfW = areaToSolidAnglePdf(pdfA_, dist2, cosLight);
   return std::isfinite(pdfW) ? pdfW : 0.0f;
@@ -151,23 +154,37 @@ float TriangleLight::pdfLi(const Vec3& refPoint, const Vec3& wi, const EmitterPo
 
 std::optional<LightLeSample> TriangleLight::sampleLe(Vec2 uPos, Vec2 uDir, const Wavelengths& lambda) const {
   if (!(area_ > 0.0f) || !emission_) return std::nullopt;
-  const EmitterPoint e = pointAt(sampleUniformTriangle(uPos));
+  EmitterPoint e = pointAt(sampleUniformTriangle(uPos));
+  // A two-sided triangle picks its side with uDir.x (then stretched back to [0,1)).
+  Vec3 side = n_;
+  float sideProbability = 1.0f;
+  if (desc_.twoSided) {
+    sideProbability = 0.5f;
+    if (uDir.x < 0.5f) {
+      uDir.x = 2.0f * uDir.x;
+    } else {
+      uDir.x = std::min(2.0f * uDir.x - 1.0f, 0x1.fffffep-1f);
+      side = -n_;
+    }
+  }
   const Vec3 wLocal = sampleCosineHemisphere(uDir);
   if (!(wLocal.z > 0.0f)) return std::nullopt;
+  e.n = side;
   LightLeSample s;
   s.ray.origin = e.p;
-  s.ray.direction = Frame::fromNormal(n_).toWorld(wLocal);
-  s.nLight = n_;
+  s.ray.direction = Frame::fromNormal(side).toWorld(wLocal);
+  s.nLight = side;
   s.L = emission_->radiance(e, lambda);
   s.pdfPosA = pdfA_;
-  s.pdfDirW = cosineHemispherePdfW(wLocal.z);
+  s.pdfDirW = sideProbability * cosineHemispherePdfW(wLocal.z);
   return s;
 }
 
 void TriangleLight::pdfLe(const Ray& ray, const Vec3& nLight, float& pdfPosA, float& pdfDirW) const {
   (void)nLight;
   pdfPosA = pdfA_;
-  pdfDirW = cosineHemispherePdfW(dot3(ray.direction, n_));
+  const float cosFront = dot3(ray.direction, n_);
+  pdfDirW = desc_.twoSided ? 0.5f * cosineHemispherePdfW(std::fabs(cosFront)) : cosineHemispherePdfW(cosFront);
 }
 
 std::unique_ptr<Light> makeTriangleLight(const TriangleLightDesc& desc, const EmissionSource* emission) {

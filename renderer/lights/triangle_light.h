@@ -14,6 +14,9 @@ struct TriangleLightDesc {
   int primitive = -1;  // reported in EmitterPoint::primitive
   int instance = -1;   // reported in EmitterPoint::instance (with `triangle`)
   uint32_t triangle = 0;
+  // Emits from both faces (a double-sided glTF material): sampled, and its power counted, on
+  // both (the back was reached by BSDF samples alone, 10x the error of the front).
+  bool twoSided = false;
 };
 
 class TriangleLight final : public Light {
@@ -22,7 +25,7 @@ class TriangleLight final : public Light {
   TriangleLight(const TriangleLightDesc& desc, const EmissionSource* emission);
 
   LightKind kind() const override { return LightKind::Triangle; }
-  float power() const override;  // pi area averageRadiance (one-sided Lambertian)
+  float power() const override;  // pi area averageRadiance per emitting side (Lambertian)
   std::optional<LightLiSample> sampleLi(const Vec3& refPoint, Vec2 u, const Wavelengths& lambda) const override;
   std::optional<LightLiSample> sampleLiDeferred(const Vec3& refPoint, Vec2 u, const Wavelengths& lambda) const override;
   Spectrum deferredRadiance(const LightLiSample& sample, const Wavelengths& lambda) const override;

@@ -302,6 +302,46 @@ TEST(Light, TriangleNextEventEstimateEqualsAnalyticIrradiance) {
   }
 }
 
+// A two-sided triangle (a double-sided glTF emitter) is sampled from behind as from the front:
+// samples follow pdfLi there too, next-event estimates match the analytic irradiance on both
+// sides, its power counts both, and sampleLe leaves from either side with half the density.
+TEST(Light, TwoSidedTriangleIsSampledFromBothSides) {
+  TriangleLightDesc t = testTriangle();
+  t.twoSided = true;
+  const ConstantEmission emission(3.0f);
+  const TriangleLight light(t, &emission);
+  TriangleLightDesc oneSided = testTriangle();
+  EXPECT_NEAR(light.power(), 2.0f * TriangleLight(oneSided, &emission).power(), 1e-5f);
+  const Vec3 behind = Vec3(0.6f, 0.05f, 0.0f) - 1.2f * light.normal();
+  const test::ChiSquareResult r = chiSquareTriangleLi(light, t, behind);
+  EXPECT_TRUE(r.passed) << r.detail;
+  sampling::Pcg32 rng(9, 4);
+  for (const float side : {1.0f, -1.0f}) {
+    const Vec3 x = Vec3(0.5f, 0.3f, -0.2f) * 0.2f + (t.p0 + t.p1 + t.p2) / 3.0f + side * 0.7f * light.normal();
+    const Vec3 n = -side * light.normal();  // the receiver faces the triangle
+    MeanError estimate;
+    for (int i = 0; i < 200000; ++i) {
+      const std::optional<LightLiSample> s = light.sampleLi(x, next2(rng), kLambda);
+      if (s) EXPECT_GT(dot3(s->nLight, x - s->pLight), 0.0f);  // the side facing x
+      estimate.add(s ? double(s->L[0]) * std::max(0.0f, dot3(s->wi, n)) / s->pdfW : 0.0);
+    }
+    const double expected = polygonIrradiance({t.p0, t.p1, t.p2}, x, n, 3.0);
+    EXPECT_NEAR(estimate.mean(), expected, 4.0 * estimate.error()) << "side " << side;
+    EXPECT_LT(estimate.error(), 0.01 * expected);
+  }
+  const test::ChiSquareResult le = test::chiSquareDirections(
+      [&](Vec2 u, float u3) -> std::optional<Vec3> {
+        const std::optional<LightLeSample> s = light.sampleLe(Vec2(u3, 1.0f - u3), u, kLambda);
+        if (!s) return std::nullopt;
+        float pdfPosA, pdfDirW;
+        light.pdfLe(s->ray, s->nLight, pdfPosA, pdfDirW);
+        EXPECT_NEAR(pdfDirW, s->pdfDirW, 1e-4f * s->pdfDirW);
+        return s->ray.direction;
+      },
+      [&](const Vec3& w) -> double { return 0.5 * cosineHemispherePdfW(std::fabs(dot3(w, light.normal()))); });
+  EXPECT_TRUE(le.passed) << le.detail;
+}
+
 TEST(Light, TriangleSampleLeIsCosineWeighted) {
   TriangleLightDesc t = testTriangle();
   t.normal = glm::normalize(Vec3(-1.0f, 0.3f, 0.5f));  // flips the face normal to this side
