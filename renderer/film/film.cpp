@@ -64,6 +64,17 @@ inline void addFixed4(int64_t* s, double v0, double v1, double v2, double v3) {
     const __m128i magicBits = _mm_castpd_si128(magic);
     const __m128i fixedLo = _mm_sub_epi64(_mm_castpd_si128(_mm_add_pd(lo, magic)), magicBits);
     const __m128i fixedHi = _mm_sub_epi64(_mm_castpd_si128(_mm_add_pd(hi, magic)), magicBits);
+    // |fixed| < 2^51, so a sum can only overflow (or be saturated) if it is outside
+    // [-2^62, 2^62): bits 63 and 62 differ. Otherwise add in the vector registers.
+    __m128i* p = reinterpret_cast<__m128i*>(s);
+    const __m128i sumLo = _mm_loadu_si128(p), sumHi = _mm_loadu_si128(p + 1);
+    const __m128i topBitsDiffer = _mm_or_si128(_mm_xor_si128(sumLo, _mm_slli_epi64(sumLo, 1)),
+                                               _mm_xor_si128(sumHi, _mm_slli_epi64(sumHi, 1)));
+    if (__builtin_expect(_mm_movemask_pd(_mm_castsi128_pd(topBitsDiffer)) == 0, 1)) {
+      _mm_storeu_si128(p, _mm_add_epi64(sumLo, fixedLo));
+      _mm_storeu_si128(p + 1, _mm_add_epi64(sumHi, fixedHi));
+      return;
+    }
     alignas(16) int64_t fixed[4];
     _mm_store_si128(reinterpret_cast<__m128i*>(fixed), fixedLo);
     _mm_store_si128(reinterpret_cast<__m128i*>(fixed + 2), fixedHi);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <stdexcept>
 
 #include "renderer/sampling/sobol.h"
@@ -38,7 +39,11 @@ std::vector<uint32_t> invertLowBits(int bits, uint32_t seed) {
 
 PixelSampleMap::PixelSampleMap(const PixelGrid& grid, const uint32_t filmScrambleSeeds[2]) : grid_(grid) {
   if (!grid.valid()) throw std::invalid_argument("PixelSampleMap: invalid pixel grid");
+  static std::atomic<uint64_t> nextId{1};
+  id_ = nextId.fetch_add(1, std::memory_order_relaxed);
   pixels_ = uint64_t(grid.width) * uint64_t(grid.height);
+  inverseWidth_ = 1.0f / float(grid.width);
+  inverseHeight_ = 1.0f / float(grid.height);
   const int r = ceilLog2(uint64_t(std::max(grid.imageWidth, grid.imageHeight)));
   cellBits_ = r;
   const uint32_t mask = r == 0 ? 0u : (uint32_t(1) << r) - 1;  // r <= 16

@@ -89,12 +89,12 @@ class Sampler {
   FilmPosition pixelFilmPosition(const PixelSample& ps) const {
     const FilmPosition point = ps.sobolIndex >> 32 == 0 && kind_ == SamplerKind::Sobol ? sobolFilmPosition(uint32_t(ps.sobolIndex))
                                                                                       : filmPositionGeneral(ps.sobolIndex);
-    const PixelGrid& g = pixels_.grid();
     const float cells = float(uint32_t(1) << pixels_.cellBits());
     const float cx = point.x * cells, cy = point.y * cells;
     const float ox = cx - float(int(cx)), oy = cy - float(int(cy));  // in [0, 1)
-    return {std::min((float(ps.x) + ox) / float(g.width), 0x1.fffffep-1f),
-            std::min((float(ps.y) + oy) / float(g.height), 0x1.fffffep-1f)};
+    // Times the reciprocal (exact for power-of-two sizes; a division each was in the profile).
+    return {std::min((float(ps.x) + ox) * pixels_.inverseWidth(), 0x1.fffffep-1f),
+            std::min((float(ps.y) + oy) * pixels_.inverseHeight(), 0x1.fffffep-1f)};
   }
   FilmPosition sobolFilmPosition(uint32_t index) const {
     uint32_t x = 0, y = 0;
