@@ -302,6 +302,23 @@ TEST(Light, TriangleNextEventEstimateEqualsAnalyticIrradiance) {
   }
 }
 
+// Chi-square of sampleLe's directions against `pdfW`, checking that pdfLe gives the densities
+// sampleLe reports (position: uniform over the area).
+template <class DirectionPdf>
+test::ChiSquareResult chiSquareTriangleLe(const TriangleLight& light, const DirectionPdf& pdfW) {
+  return test::chiSquareDirections(
+      [&](Vec2 u, float u3) -> std::optional<Vec3> {
+        const std::optional<LightLeSample> s = light.sampleLe(Vec2(u3, 1.0f - u3), u, kLambda);
+        if (!s) return std::nullopt;
+        float pdfPosA, pdfDirW;
+        light.pdfLe(s->ray, s->nLight, pdfPosA, pdfDirW);
+        EXPECT_NEAR(pdfDirW, s->pdfDirW, 1e-4f * s->pdfDirW);
+        EXPECT_NEAR(pdfPosA, 1.0f / light.area(), 1e-5f);
+        return s->ray.direction;
+      },
+      pdfW);
+}
+
 // A two-sided triangle (a double-sided glTF emitter) is sampled from behind as from the front:
 // samples follow pdfLi there too, next-event estimates match the analytic irradiance on both
 // sides, its power counts both, and sampleLe leaves from either side with half the density.
@@ -329,16 +346,8 @@ TEST(Light, TwoSidedTriangleIsSampledFromBothSides) {
     EXPECT_NEAR(estimate.mean(), expected, 4.0 * estimate.error()) << "side " << side;
     EXPECT_LT(estimate.error(), 0.01 * expected);
   }
-  const test::ChiSquareResult le = test::chiSquareDirections(
-      [&](Vec2 u, float u3) -> std::optional<Vec3> {
-        const std::optional<LightLeSample> s = light.sampleLe(Vec2(u3, 1.0f - u3), u, kLambda);
-        if (!s) return std::nullopt;
-        float pdfPosA, pdfDirW;
-        light.pdfLe(s->ray, s->nLight, pdfPosA, pdfDirW);
-        EXPECT_NEAR(pdfDirW, s->pdfDirW, 1e-4f * s->pdfDirW);
-        return s->ray.direction;
-      },
-      [&](const Vec3& w) -> double { return 0.5 * cosineHemispherePdfW(std::fabs(dot3(w, light.normal()))); });
+  const test::ChiSquareResult le = chiSquareTriangleLe(
+      light, [&](const Vec3& w) -> double { return 0.5 * cosineHemispherePdfW(std::fabs(dot3(w, light.normal()))); });
   EXPECT_TRUE(le.passed) << le.detail;
 }
 
@@ -348,17 +357,8 @@ TEST(Light, TriangleSampleLeIsCosineWeighted) {
   const ConstantEmission emission(1.0f);
   const TriangleLight light(t, &emission);
   ASSERT_GT(dot3(light.normal(), t.normal), 0.0f);
-  const test::ChiSquareResult r = test::chiSquareDirections(
-      [&](Vec2 u, float u3) -> std::optional<Vec3> {
-        const std::optional<LightLeSample> s = light.sampleLe(Vec2(u3, 1.0f - u3), u, kLambda);
-        if (!s) return std::nullopt;
-        float pdfPosA, pdfDirW;
-        light.pdfLe(s->ray, s->nLight, pdfPosA, pdfDirW);
-        EXPECT_NEAR(pdfDirW, s->pdfDirW, 1e-4f * s->pdfDirW);
-        EXPECT_NEAR(pdfPosA, 1.0f / light.area(), 1e-5f);
-        return s->ray.direction;
-      },
-      [&](const Vec3& w) -> double { return cosineHemispherePdfW(dot3(w, light.normal())); });
+  const test::ChiSquareResult r =
+      chiSquareTriangleLe(light, [&](const Vec3& w) -> double { return cosineHemispherePdfW(dot3(w, light.normal())); });
   EXPECT_TRUE(r.passed) << r.detail;
   EXPECT_NEAR(light.power(), kPi * light.area() * 1.0f, 1e-5f);
 }

@@ -352,6 +352,28 @@ Estimate channelMean(const DevelopedImage& img, int channel) {
   return e;
 }
 
+// A 2x2 quad of glTF material `material` filling an 8x8 orthographic view head-on, under a
+// white (RGB (1,1,1)) sky, 256 spp, box filter (an empty image if the scene does not build).
+DevelopedImage renderGltfQuadHeadOnUnderWhiteSky(const GltfMaterial& material, int maxDepth) {
+  SceneDescription scene;
+  MeshPrimitive quad = makeQuad(Vec3(-1.0f, -1.0f, 0.0f), Vec3(2.0f, 0.0f, 0.0f), Vec3(0.0f, 2.0f, 0.0f));
+  quad.material = 0;
+  scene.primitives.push_back(std::move(quad));
+  scene.instances.push_back(MeshInstance{0, Mat4(1.0f), "quad"});
+  scene.materials.push_back(material);
+  CameraDesc camera = test::cameraLookingDownZ(Vec3(0.0f, 0.0f, 3.0f), 0.5f);
+  camera.orthoHalfHeight = 0.5f;
+  scene.cameras.push_back(camera);
+  scene.lights.push_back(whiteRgbSky());
+  const std::unique_ptr<RenderScene> rs = buildSquare(scene, 8);
+  if (!rs) return DevelopedImage();
+  FilmOptions f;
+  f.width = f.height = 8;
+  f.filter = FilterKind::Box;
+  f.settings.maxDepth = maxDepth;
+  return renderFilm(*rs, 2, 8 * 8 * 256, f).develop();
+}
+
 // glTF 2.0 (Appendix B): a metal's Fresnel term is baseColor at normal incidence. A mirror-smooth
 // metal seen head-on by an orthographic camera under a white (RGB (1,1,1)) sky therefore develops
 // to its base colour. Gold's base colour had come out (0.46, 0.80, 0.31) when the conductor's
@@ -360,28 +382,13 @@ TEST(PathTracer, SmoothGltfMetalsReflectTheirBaseColourAtNormalIncidence) {
   const Vec3 colours[] = {Vec3(1.0f, 0.766f, 0.336f), Vec3(0.955f, 0.638f, 0.538f), Vec3(0.1f, 0.8f, 0.2f),
                           Vec3(0.2f, 0.3f, 0.9f), Vec3(0.5f), Vec3(1.0f)};
   for (const Vec3& base : colours) {
-    SceneDescription scene;
-    MeshPrimitive quad = makeQuad(Vec3(-1.0f, -1.0f, 0.0f), Vec3(2.0f, 0.0f, 0.0f), Vec3(0.0f, 2.0f, 0.0f));
-    quad.material = 0;
-    scene.primitives.push_back(std::move(quad));
-    scene.instances.push_back(MeshInstance{0, Mat4(1.0f), "mirror"});
     GltfMaterial metal;
     metal.name = "metal";
     metal.baseColorFactor = Vec4(base, 1.0f);
     metal.metallicFactor = 1.0f;
     metal.roughnessFactor = 0.0f;
-    scene.materials.push_back(metal);
-    CameraDesc camera = test::cameraLookingDownZ(Vec3(0.0f, 0.0f, 3.0f), 0.5f);
-    camera.orthoHalfHeight = 0.5f;
-    scene.cameras.push_back(camera);
-    scene.lights.push_back(whiteRgbSky());
-    const std::unique_ptr<RenderScene> rs = buildSquare(scene, 8);
-    ASSERT_TRUE(rs);
-    FilmOptions f;
-    f.width = f.height = 8;
-    f.filter = FilterKind::Box;
-    f.settings.maxDepth = 2;
-    const DevelopedImage img = renderFilm(*rs, 2, 8 * 8 * 256, f).develop();
+    const DevelopedImage img = renderGltfQuadHeadOnUnderWhiteSky(metal, 2);
+    ASSERT_GT(img.width, 0);
     for (int c = 0; c < 3; ++c) {
       const Estimate e = channelMean(img, c);
       // 3e-3: the RGB upsampling round trip (Gulbrandsen's IOR clamps reflectance at 0.9999).
@@ -401,29 +408,14 @@ TEST(PathTracer, GltfCoatsReflectFresnelOverBlackAndNothingAtIorOne) {
     float ior, expected;
   };
   for (const Case c : {Case{Vec3(0.0f), 1.5f, 0.04f}, Case{Vec3(0.0f), 2.0f, 1.0f / 9.0f}, Case{Vec3(0.5f), 1.0f, 0.5f}}) {
-    SceneDescription scene;
-    MeshPrimitive quad = makeQuad(Vec3(-1.0f, -1.0f, 0.0f), Vec3(2.0f, 0.0f, 0.0f), Vec3(0.0f, 2.0f, 0.0f));
-    quad.material = 0;
-    scene.primitives.push_back(std::move(quad));
-    scene.instances.push_back(MeshInstance{0, Mat4(1.0f), "slab"});
     GltfMaterial m;
     m.name = "coated";
     m.baseColorFactor = Vec4(c.base, 1.0f);
     m.metallicFactor = 0.0f;
     m.roughnessFactor = 0.0f;
     m.ior = c.ior;
-    scene.materials.push_back(m);
-    CameraDesc camera = test::cameraLookingDownZ(Vec3(0.0f, 0.0f, 3.0f), 0.5f);
-    camera.orthoHalfHeight = 0.5f;
-    scene.cameras.push_back(camera);
-    scene.lights.push_back(whiteRgbSky());
-    const std::unique_ptr<RenderScene> rs = buildSquare(scene, 8);
-    ASSERT_TRUE(rs);
-    FilmOptions f;
-    f.width = f.height = 8;
-    f.filter = FilterKind::Box;
-    f.settings.maxDepth = 3;
-    const DevelopedImage img = renderFilm(*rs, 2, 8 * 8 * 256, f).develop();
+    const DevelopedImage img = renderGltfQuadHeadOnUnderWhiteSky(m, 3);
+    ASSERT_GT(img.width, 0);
     for (int ch = 0; ch < 3; ++ch) {
       const Estimate e = channelMean(img, ch);
       EXPECT_NEAR(e.mean, c.expected, 4 * e.standardError + 2e-3) << "ior " << c.ior << " channel " << ch;
