@@ -198,6 +198,9 @@ Spectrum PathTracer::radiance(const sampling::IndexSampler& samples, const Ray& 
     Bsdf bsdf(Frame::fromNormalTangent(hit.ns, hit.dpdu), hit.ng);
     Spectrum Le;
     if (!materials.shade(material, sp, lambda, bsdf, Le)) ++counters.materialFailures;
+    // The cosine is the BSDF's own shading normal's: a normal map replaces the frame, and with
+    // the mesh's interpolated normal it had almost no effect on diffuse shading.
+    const Vec3 shadingNormal = bsdf.frame().n;
     // A ray that reaches a surface from its back travelled inside that object: absorb along
     // the segment (closed, non-nested volumes; KHR_materials_volume).
     if (dot3(ray.direction, hit.ng) > 0.0f) {
@@ -244,7 +247,7 @@ Spectrum PathTracer::radiance(const sampling::IndexSampler& samples, const Ray& 
         const std::optional<LightLiSample> ls = light.sampleLiDeferred(hit.p, u, lambda);
         if (ls && ls->pdfW > 0.0f && (ls->radianceDeferred || !ls->L.isBlack())) {
           float bsdfPdfW = 0.0f;  // the BSDF technique's density of wi, for MIS
-          const Spectrum f = bsdf.evalWithPdf(wo, ls->wi, TransportMode::Radiance, bsdfPdfW) * absDot(ls->wi, hit.ns);
+          const Spectrum f = bsdf.evalWithPdf(wo, ls->wi, TransportMode::Radiance, bsdfPdfW) * absDot(ls->wi, shadingNormal);
           if (!f.isBlack()) {
             ++counters.rays;
             if (!geometry.occluded(shadowRay(hit.p, hit.ng, hit.pError, *ls))) {
@@ -266,7 +269,7 @@ Spectrum PathTracer::radiance(const sampling::IndexSampler& samples, const Ray& 
     const Vec2 u(samples.get(dim + 4), samples.get(dim + 5));
     const std::optional<BsdfSample> bs = bsdf.sample(wo, samples.get(dim + 3), u, TransportMode::Radiance);
     if (!bs || !(bs->pdfW > 0.0f) || bs->f.isBlack()) break;
-    beta *= bs->f * (absDot(bs->wi, hit.ns) / bs->pdfW);
+    beta *= bs->f * (absDot(bs->wi, shadingNormal) / bs->pdfW);
     prevPdfW = bs->pdfW;
     if (bs->dispersive && !terminated && n > 1) {
       if (settings_.spectralMode == SpectralMode::Mis && !bs->specular) {

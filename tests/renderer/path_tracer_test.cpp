@@ -352,10 +352,12 @@ Estimate channelMean(const DevelopedImage& img, int channel) {
   return e;
 }
 
-// A 2x2 quad of glTF material `material` filling an 8x8 orthographic view head-on, under a
-// white (RGB (1,1,1)) sky, 256 spp, box filter (an empty image if the scene does not build).
-DevelopedImage renderGltfQuadHeadOnUnderWhiteSky(const GltfMaterial& material, int maxDepth) {
+// A 2x2 quad in z = 0 (u along +x) of glTF material `material` filling an 8x8 orthographic
+// view head-on, lit by `light`, 256 spp, box filter (an empty image if the scene does not build).
+DevelopedImage renderGltfQuadHeadOn(const GltfMaterial& material, int maxDepth, const LightDesc& light,
+                                    const std::vector<ImageData>& images = {}) {
   SceneDescription scene;
+  scene.images = images;
   MeshPrimitive quad = makeQuad(Vec3(-1.0f, -1.0f, 0.0f), Vec3(2.0f, 0.0f, 0.0f), Vec3(0.0f, 2.0f, 0.0f));
   quad.material = 0;
   scene.primitives.push_back(std::move(quad));
@@ -364,7 +366,7 @@ DevelopedImage renderGltfQuadHeadOnUnderWhiteSky(const GltfMaterial& material, i
   CameraDesc camera = test::cameraLookingDownZ(Vec3(0.0f, 0.0f, 3.0f), 0.5f);
   camera.orthoHalfHeight = 0.5f;
   scene.cameras.push_back(camera);
-  scene.lights.push_back(whiteRgbSky());
+  scene.lights.push_back(light);
   const std::unique_ptr<RenderScene> rs = buildSquare(scene, 8);
   if (!rs) return DevelopedImage();
   FilmOptions f;
@@ -387,7 +389,7 @@ TEST(PathTracer, SmoothGltfMetalsReflectTheirBaseColourAtNormalIncidence) {
     metal.baseColorFactor = Vec4(base, 1.0f);
     metal.metallicFactor = 1.0f;
     metal.roughnessFactor = 0.0f;
-    const DevelopedImage img = renderGltfQuadHeadOnUnderWhiteSky(metal, 2);
+    const DevelopedImage img = renderGltfQuadHeadOn(metal, 2, whiteRgbSky());
     ASSERT_GT(img.width, 0);
     for (int c = 0; c < 3; ++c) {
       const Estimate e = channelMean(img, c);
@@ -396,6 +398,37 @@ TEST(PathTracer, SmoothGltfMetalsReflectTheirBaseColourAtNormalIncidence) {
           << "base (" << base.x << ", " << base.y << ", " << base.z << ") channel " << c;
     }
   }
+}
+
+// A normal map tilts the normal the light's cosine is taken with. A rough white glTF quad lit
+// by a directional light 45 degrees off its face, seen head-on: with a flat map it receives
+// cos 45; with a map tilted 45 degrees toward the light, cos 0. The coated BSDF is reciprocal
+// and the two cases are each other's swapped pair (wo, wi) in the shading frame, so the ratio
+// is sqrt 2 exactly. (The cosine had used the mesh normal: ratio 1.)
+TEST(PathTracer, NormalMapsTiltTheCosineOfTheLight) {
+  LightDesc sun;
+  sun.kind = LightDesc::Kind::Directional;
+  sun.emission.kind = SpectrumDesc::Kind::Constant;
+  sun.emission.value = 1.0f;
+  sun.direction = glm::normalize(Vec3(-1.0f, 0.0f, -1.0f));  // travelling down from +x
+  double mean[2] = {0, 0};
+  for (int tilted = 0; tilted < 2; ++tilted) {
+    ImageData map;
+    map.width = map.height = 1;
+    map.channels = 3;
+    const float c = 0.5f + 0.5f * std::sqrt(0.5f);  // (2c - 1) = 0.7071: 45 degrees toward +u
+    map.pixels = tilted ? std::vector<float>{c, 0.5f, c} : std::vector<float>{0.5f, 0.5f, 1.0f};
+    GltfMaterial m;
+    m.name = "bumpy";
+    m.metallicFactor = 0.0f;
+    m.roughnessFactor = 1.0f;
+    m.normalTexture.image = 0;
+    const DevelopedImage img = renderGltfQuadHeadOn(m, 1, sun, {map});
+    ASSERT_GT(img.width, 0);
+    mean[tilted] = channelMean(img, 1).mean;
+  }
+  ASSERT_GT(mean[0], 0.0);
+  EXPECT_NEAR(mean[1] / mean[0], std::sqrt(2.0), 0.01);
 }
 
 // glTF dielectrics seen head-on under a white sky: over a black base the Fresnel coat still
@@ -414,7 +447,7 @@ TEST(PathTracer, GltfCoatsReflectFresnelOverBlackAndNothingAtIorOne) {
     m.metallicFactor = 0.0f;
     m.roughnessFactor = 0.0f;
     m.ior = c.ior;
-    const DevelopedImage img = renderGltfQuadHeadOnUnderWhiteSky(m, 3);
+    const DevelopedImage img = renderGltfQuadHeadOn(m, 3, whiteRgbSky());
     ASSERT_GT(img.width, 0);
     for (int ch = 0; ch < 3; ++ch) {
       const Estimate e = channelMean(img, ch);
