@@ -158,7 +158,17 @@ int parseFlags(const Args& args, RenderFlags& f) {
     const std::string ext = std::filesystem::path(output).extension().string();
     if (ext != ".exr" && ext != ".png") return usage("output must end in .exr or .png, got '" + output + "'");
   }
-  for (const std::string& output : f.outputs)
+  // Two outputs (or the image and the sample file) on one file would overwrite each other.
+  std::vector<std::string> targets = f.outputs;
+  if (!f.samplesOut.empty()) targets.push_back(f.samplesOut);
+  for (size_t i = 0; i < targets.size(); ++i)
+    for (size_t j = i + 1; j < targets.size(); ++j) {
+      std::error_code ec;
+      if (std::filesystem::weakly_canonical(targets[i], ec) == std::filesystem::weakly_canonical(targets[j], ec))
+        return usage("'" + targets[i] + "' is given twice as an output (" +
+                     (j + 1 == targets.size() && !f.samplesOut.empty() ? "image and sample file" : "two images") + ")");
+    }
+  for (const std::string& output : targets)
     if (const std::string problem = outputDirectoryProblem(output); !problem.empty()) {
       std::fprintf(stderr, "tex render: error: %s\n", problem.c_str());
       return 1;
@@ -317,9 +327,9 @@ int runRender(const Args& args) {
   const runtime::SchedulerResult result = runtime::runStream<SampleRecord>(
       range, options, tracer, std::span<runtime::Sink<SampleRecord>* const>(sinks));
   progress.finish();
-  if (fileSink) {
-    if (!fileSink->error().empty()) return fail(fileSink->error());
-  }
+  // A sample file that failed (a full disk) does not cost the image: it is still written, and
+  // the run then fails.
+  const std::string sampleFileError = fileSink ? fileSink->error() : std::string();
 
   const render::PathCounters counters = tracer.counters();
   const DevelopedImage image = filmSink.film().develop();
@@ -345,13 +355,20 @@ int runRender(const Args& args) {
   if (cropped)
     metadata["tex.crop"] = std::to_string(filmX) + "," + std::to_string(filmY) + "," + std::to_string(filmWidth) + "," +
                            std::to_string(filmHeight) + " of " + std::to_string(s.width) + "x" + std::to_string(s.height);
+  // Every output is attempted: one that cannot be written does not cost the others.
+  std::string written, writeErrors;
   for (const std::string& output : f.outputs) {
     const bool png = std::filesystem::path(output).extension() == ".png";
     const std::string e = png ? writeRgbImage(output, image.rgbImage()) : writeExr(output, image.toExr(true, false, metadata));
-    if (!e.empty()) return fail(e);
+    if (!e.empty()) {
+      std::fprintf(stderr, "tex render: error: %s\n", e.c_str());
+      writeErrors += e;
+      continue;
+    }
+    written += (written.empty() ? "" : ", ") + output;
   }
-  std::string written;
-  for (const std::string& output : f.outputs) written += (written.empty() ? "" : ", ") + output;
+  if (!sampleFileError.empty()) return fail(sampleFileError + (written.empty() ? "" : " (the image was written: " + written + ")"));
+  if (!writeErrors.empty()) return 1;
 
   const double seconds = std::max(result.seconds, 1e-9);
   std::printf("%s: %llu samples (%.2f spp) in %.2f s, %s samples/s, %s rays/s, %d threads%s; %llu NaN/Inf samples zeroed%s -> %s\n",

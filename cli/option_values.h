@@ -71,6 +71,12 @@ inline std::string outputDirectoryProblem(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::is_directory(dir, ec)) return path + ": the directory '" + dir.string() + "' does not exist";
   if (::access(dir.c_str(), W_OK) != 0) return path + ": the directory '" + dir.string() + "' is not writable";
+  // An existing output must be a writable file (a directory or a read-only file was found only
+  // after the whole render).
+  if (std::filesystem::exists(path, ec)) {
+    if (std::filesystem::is_directory(path, ec)) return path + ": is a directory";
+    if (::access(path.c_str(), W_OK) != 0) return path + ": the file is not writable";
+  }
   return "";
 }
 

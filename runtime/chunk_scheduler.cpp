@@ -72,7 +72,8 @@ SchedulerResult runChunks(IndexRange range, const SchedulerOptions& options, con
         const uint64_t chunk = next.fetch_add(1, std::memory_order_relaxed);
         if (chunk >= chunkCount) break;
         const uint64_t begin = epoch.begin + chunk * chunkSize;
-        const IndexRange indices{begin, std::min(epoch.end, begin + chunkSize)};
+        // (begin + chunkSize can wrap near 2^64.)
+        const IndexRange indices{begin, epoch.end - begin <= chunkSize ? epoch.end : begin + chunkSize};
         processChunk(slot, chunkBase + chunk, indices);
         doneBySlot[slot].push_back(indices);
         if (options.progress != nullptr) options.progress->add(indices.size());
@@ -98,8 +99,10 @@ SchedulerResult runChunks(IndexRange range, const SchedulerOptions& options, con
   for (const auto& slotRanges : doneBySlot) ranges.insert(ranges.end(), slotRanges.begin(), slotRanges.end());
   result.completed = mergeRanges(std::move(ranges));
   result.samplesDone = totalSize(result.completed);
-  result.cancelled = cancelled;
-  result.timeBudgetReached = timeUp;
+  // A stop seen only after the last chunk was taken cost nothing: the run is complete.
+  const bool complete = result.samplesDone == range.size();
+  result.cancelled = cancelled && !complete;
+  result.timeBudgetReached = timeUp && !complete;
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }

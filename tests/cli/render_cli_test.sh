@@ -176,6 +176,19 @@ JSON
 expect_exit 1 "geometry beyond range" "$tex" render "$tmp/huge.json" --spp 1 --res 8x8 -q -o "$tmp/x.exr"
 echo "$out" | grep -q "geometry reaches beyond 1e15" || fail "geometry beyond range is not a clear error: $out"
 
+# Outputs are checked before rendering: an existing directory, or one file named twice.
+mkdir -p "$tmp/adir.exr"
+expect_exit 1 "output is a directory" "$tex" render "$scene" --spp 1 --res 8x8 -q -o "$tmp/adir.exr"
+echo "$out" | grep -q "is a directory" || fail "an output that is a directory is not refused up front: $out"
+expect_exit 2 "image and sample file on one path" "$tex" render "$scene" --spp 1 --res 8x8 -q -o "$tmp/same.exr" --samples-out "$tmp/same.exr"
+echo "$out" | grep -q "given twice" || fail "one path for the image and the sample file is not refused: $out"
+# A sample file that cannot be written does not cost the image.
+if [ -w /dev/full ]; then
+  rm -f "$tmp/kept.exr"
+  expect_exit 1 "sample file on a full disk" "$tex" render "$scene" --spp 1 --res 8x8 -q -o "$tmp/kept.exr" --samples-out /dev/full
+  [ -s "$tmp/kept.exr" ] || fail "the image was lost when the sample file failed: $out"
+fi
+
 # tex eval: Ctrl-C keeps the partial image (exit 130), as tex render does.
 expect_interrupted eval "$tmp/e.log" "$tmp/eval_part.png" "interrupted" \
   "$tex" eval "$src/scenes/marble.tex" --fn marble --size 8192x8192 -o "$tmp/eval_part.png"

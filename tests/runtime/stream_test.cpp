@@ -188,6 +188,47 @@ TEST(Stream, CancellationKeepsExactlyTheDeliveredChunks) {
   }
 }
 
+// A stop that comes after the last chunk was taken cost nothing: the run is complete, not
+// interrupted (a finished render had reported "interrupted" and exited 130). And chunks near
+// the top of the index space do not wrap (begin + chunkSize overflowed to an empty chunk).
+TEST(Stream, AStopAfterTheLastChunkLeavesTheRunCompleteAndChunksDoNotWrap) {
+  for (int threads : {1, 2}) {
+    std::atomic<bool> cancel{false};
+    RecordingSink sink;
+    Sink<IndexRecord>* sinks[] = {&sink};
+    SchedulerOptions options;
+    options.threads = threads;
+    options.chunkSize = 100;
+    options.cancel = &cancel;
+    const SchedulerResult result = runStream<IndexRecord>(
+        {0, 100}, options,
+        [&](uint64_t i, Emitter<IndexRecord>& out) {
+          if (i == 99) cancel = true;  // during the only chunk
+          out.emit({i, 1});
+        },
+        std::span<Sink<IndexRecord>* const>(sinks));
+    EXPECT_EQ(result.samplesDone, 100u);
+    EXPECT_FALSE(result.cancelled);
+    EXPECT_FALSE(sink.endResult.cancelled);
+  }
+  const uint64_t top = ~uint64_t(0) - 10;
+  SchedulerOptions options;
+  options.threads = 1;
+  options.chunkSize = uint64_t(1) << 63;
+  std::atomic<uint64_t> count{0};
+  RecordingSink sink;
+  Sink<IndexRecord>* sinks[] = {&sink};
+  const SchedulerResult result = runStream<IndexRecord>(
+      {top - 1000, top}, options,
+      [&](uint64_t i, Emitter<IndexRecord>& out) {
+        ++count;
+        out.emit({i, 1});
+      },
+      std::span<Sink<IndexRecord>* const>(sinks));
+  EXPECT_EQ(result.samplesDone, 1000u);
+  EXPECT_EQ(count.load(), 1000u);
+}
+
 TEST(Stream, SigintCancelsTheRunAndTheHandlerIsRestored) {
   struct sigaction before {};
   sigaction(SIGINT, nullptr, &before);
