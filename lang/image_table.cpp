@@ -164,21 +164,38 @@ bool decodeExr(const std::string& path, ImageLevel& out, std::string& message) {
         anyColour |= c < 3;
         subsampled |= ch->xSampling != 1 || ch->ySampling != 1;
       }
-    if (!anyColour || subsampled) return decodeExrLuminance(path, out);
-    // R, G, B, A read as 32-bit floats whatever their storage (half, float or uint), so float
-    // files keep their precision and values beyond half's range (65504). A missing colour
-    // channel reads 0, a missing alpha 1.
+    const Imf::Channel* luminance = channels.findChannel("Y");
+    const bool chroma = channels.findChannel("RY") != nullptr || channels.findChannel("BY") != nullptr;
+    if (!anyColour && !luminance) {
+      std::string names;
+      for (auto it = channels.begin(); it != channels.end(); ++it) names += std::string(names.empty() ? "" : ", ") + it.name();
+      message = "OpenEXR image has no R, G, B or Y channel (it has: " + (names.empty() ? std::string("none") : names) + ")";
+      return false;
+    }
+    // Subsampled colour or chroma (RY, BY): RgbaInputFile reconstructs RGB, in half precision.
+    if (subsampled || (!anyColour && (chroma || luminance->xSampling != 1 || luminance->ySampling != 1)))
+      return decodeExrLuminance(path, out);
+    // R, G, B, A (or Y into all three) read as 32-bit floats whatever their storage (half,
+    // float or uint), so float files keep their precision and values beyond half's range
+    // (65504). A missing colour channel reads 0, a missing alpha 1.
     out.width = int(w);
     out.height = int(h);
     out.rgba.assign(size_t(w) * size_t(h) * 4, 0.0f);
     Imf::FrameBuffer frameBuffer;
     char* origin = reinterpret_cast<char*>(out.rgba.data()) -
                    (int64_t(window.min.x) + int64_t(window.min.y) * w) * int64_t(4 * sizeof(float));
-    for (int c = 0; c < 4; ++c)
-      frameBuffer.insert(names[c], Imf::Slice(Imf::FLOAT, origin + c * sizeof(float), 4 * sizeof(float),
-                                              size_t(w) * 4 * sizeof(float), 1, 1, c == 3 ? 1.0 : 0.0));
+    const char* source[4] = {"R", "G", "B", "A"};
+    if (!anyColour) source[0] = source[1] = source[2] = "Y";
+    // One slice per channel name: Y goes to R, then is copied to G and B below.
+    for (int c = 0; c < 4; ++c) {
+      if (!anyColour && (c == 1 || c == 2)) continue;
+      frameBuffer.insert(source[c], Imf::Slice(Imf::FLOAT, origin + c * sizeof(float), 4 * sizeof(float),
+                                               size_t(w) * 4 * sizeof(float), 1, 1, c == 3 ? 1.0 : 0.0));
+    }
     file.setFrameBuffer(frameBuffer);
     file.readPixels(window.min.y, window.max.y);
+    if (!anyColour)
+      for (size_t i = 0; i < out.rgba.size(); i += 4) out.rgba[i + 1] = out.rgba[i + 2] = out.rgba[i];
     return true;
   } catch (const std::exception& e) {
     message = std::string("cannot decode OpenEXR: ") + e.what();

@@ -108,6 +108,33 @@ TEST(ImageDecode, FloatExrKeepsFullPrecisionAndRange) {
   EXPECT_EQ(level.rgba, (std::vector<float>{r[0], g[0], b[0], 1.0f, r[1], g[1], b[1], 1.0f}));
 }
 
+// A float luminance-only EXR (Y, with or without A) keeps its precision too (it went through
+// RgbaInputFile's half: 1e6 became inf, 1e-9 became 0), and an EXR with no R, G, B or Y channel
+// (only Z; or layered names) is an error instead of a black image.
+TEST(ImageDecode, FloatLuminanceExrKeepsItsValuesAndChannellessExrIsAnError) {
+  const fs::path dir = scratchDir("luminance_exr");
+  const std::vector<float> y = {1e6f, 1e-9f}, a = {0.5f, 1.0f};
+  auto write = [&](const fs::path& file, std::vector<const char*> names) {
+    Imf::Header header(2, 1);
+    for (const char* name : names) header.channels().insert(name, Imf::Channel(Imf::FLOAT));
+    Imf::OutputFile out(file.c_str(), header);
+    Imf::FrameBuffer fb;
+    for (const char* name : names)
+      fb.insert(name, Imf::Slice(Imf::FLOAT, (char*)(std::string(name) == "A" ? a.data() : y.data()), sizeof(float),
+                                 2 * sizeof(float)));
+    out.setFrameBuffer(fb);
+    out.writePixels(1);
+  };
+  write(dir / "y.exr", {"Y", "A"});
+  ImageLevel level;
+  std::string code, message;
+  ASSERT_TRUE(decodeImageFile((dir / "y.exr").string(), false, level, code, message)) << message;
+  EXPECT_EQ(level.rgba, (std::vector<float>{y[0], y[0], y[0], a[0], y[1], y[1], y[1], a[1]}));
+  write(dir / "z.exr", {"Z"});
+  EXPECT_FALSE(decodeImageFile((dir / "z.exr").string(), false, level, code, message));
+  EXPECT_NE(message.find("no R, G, B or Y channel (it has: Z)"), std::string::npos) << message;
+}
+
 TEST(ImageDecode, ErrorsHaveCodes) {
   ImageLoadResult missing = ImageTable::global().load(kImages + "does_not_exist.png", false);
   EXPECT_EQ(missing.handle, -1);
