@@ -61,7 +61,10 @@ void lookupImage(const LoadedImage& image, ImageFilter filter, int32_t wrap, flo
   if (filter == ImageFilter::Bilinear) return bilinear(base, wrap, u, v, out);
   float ax = dudx * float(base.width), ay = dvdx * float(base.height);
   float bx = dudy * float(base.width), by = dvdy * float(base.height);
-  float rho = std::max(std::sqrt(ax * ax + ay * ay), std::sqrt(bx * bx + by * by));
+  // NaN derivatives act as zero (docs/language.md), whichever axis they are on: std::max(NaN,
+  // y) is NaN, which had discarded the other axis's footprint.
+  const float rhoX = std::sqrt(ax * ax + ay * ay), rhoY = std::sqrt(bx * bx + by * by);
+  float rho = std::max(rhoX == rhoX ? rhoX : 0.0f, rhoY == rhoY ? rhoY : 0.0f);
   int last = int(image.levels.size()) - 1;
   if (!(rho > 1.0f)) return bilinear(base, wrap, u, v, out);  // magnified, or NaN derivatives
   float lod = std::log2(rho);

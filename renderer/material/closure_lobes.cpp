@@ -52,9 +52,16 @@ struct Walker {
   Walker(const compiler::ClosureNode* n, int32_t count, const Wavelengths& l, Bsdf* b, Spectrum& e)
       : nodes(n), nodeCount(count), lambda(l), bsdf(b), emission(e) {}
 
+  // A colour or spectrum parameter with a NaN or infinite component: a failed evaluation (the
+  // RGB fit sanitises such colours to 0 or 1, so rgb(NaN) had rendered black uncounted).
+  mutable bool nonFiniteParam = false;
+
   // A node's parameter vector (`second`: params2) as a spectrum for `use`.
   Spectrum param(const compiler::ClosureNode& node, ParamUse use, bool second = false) const {
     const compiler::ClosureParam kind = second ? node.param2Kind : node.paramKind;
+    const float* raw = second ? node.params2 : node.params;
+    const int rawCount = kind == compiler::ClosureParam::Color ? 3 : kind == compiler::ClosureParam::Spectrum ? lambda.count : 0;
+    for (int i = 0; i < rawCount; ++i) nonFiniteParam = nonFiniteParam || !std::isfinite(raw[i]);
     if (fitted && kind == compiler::ClosureParam::Color) {
       const FittedColor& colour = fitted[&node - nodes][second ? 1 : 0];
       switch (use) {
@@ -152,6 +159,10 @@ struct Walker {
         emission += weight * clampZero(param(node, ParamUse::Illuminant));
         return;
       case compiler::ClosureKind::Mix: {
+        if (!std::isfinite(node.weight)) {  // both branches were skipped: black, uncounted
+          result.ok = false;
+          return;
+        }
         const float w = std::clamp(node.weight, 0.0f, 1.0f);
         if (w < 1.0f) walk(node.a, weight * (1.0f - w), depth + 1);
         if (w > 0.0f) walk(node.b, weight * w, depth + 1);
@@ -325,6 +336,7 @@ ClosureEvaluation walkTree(const compiler::ClosureNode* nodes, int32_t count, in
   Spectrum unit;
   for (int i = 0; i < lambda.count; ++i) unit.v[i] = 1.0f;
   walker.walk(root, unit, 0);
+  if (walker.nonFiniteParam) walker.result.ok = false;
   return walker.result;
 }
 

@@ -33,8 +33,10 @@ std::string floatLiteral(float v) {
 bool literalFor(const lang::Type* type, const TexParamValue& v, std::string& text, std::string& why) {
   using K = lang::TypeKind;
   const auto vectorText = [&](const char* ctor, size_t n) {
-    if (v.kind != TexParamValue::Kind::Vec && v.kind != TexParamValue::Kind::Float) return false;
-    std::vector<float> f = v.floats;
+    // A whole number (JSON 1, as many writers print 1.0) broadcasts like a Float.
+    if (v.kind != TexParamValue::Kind::Vec && v.kind != TexParamValue::Kind::Float && v.kind != TexParamValue::Kind::Int)
+      return false;
+    std::vector<float> f = v.kind == TexParamValue::Kind::Int ? std::vector<float>{float(v.intValue)} : v.floats;
     if (f.size() == 1) f.assign(n, f[0]);
     if (f.size() != n) return false;
     text = std::string(ctor) + "(";

@@ -189,6 +189,11 @@ if [ -w /dev/full ]; then
   [ -s "$tmp/kept.exr" ] || fail "the image was lost when the sample file failed: $out"
 fi
 
+# A whole number for a Color parameter broadcasts like a Float (JSON writers print 1.0 as 1).
+printf 'export fn paint(h: Hit, c: Color) -> Material = diffuse(c)\n' > "$tmp/paint.tex"
+quad_scene "$tmp/intcolour.json" paint.tex paint '{"c": 1}'
+expect_exit 0 "Int for a Color parameter" "$tex" render "$tmp/intcolour.json" --spp 1 --res 8x8 -q -o "$tmp/x.exr"
+
 # tex eval: Ctrl-C keeps the partial image (exit 130), as tex render does.
 expect_interrupted eval "$tmp/e.log" "$tmp/eval_part.png" "interrupted" \
   "$tex" eval "$src/scenes/marble.tex" --fn marble --size 8192x8192 -o "$tmp/eval_part.png"

@@ -245,6 +245,13 @@ TEST(ImageLookup, NonFiniteInputsAndBadHandlesGiveZeros) {
   EXPECT_EQ(out[0], 1.0f);
   lookupImage(quad, ImageFilter::Trilinear, 0, 0.25f, 0.25f, INFINITY, 0, 0, 0, out);
   EXPECT_EQ(out[0], quad.levels.back().rgba[0]);
+  // A NaN on one axis is zero there: the other axis's footprint still picks the level, in
+  // either order (a NaN duvdx had thrown away duvdy's).
+  float nanFirst[4], nanSecond[4];
+  lookupImage(quad, ImageFilter::Trilinear, 0, 0.25f, 0.25f, std::nanf(""), 0, 0, 100.0f, nanFirst);
+  lookupImage(quad, ImageFilter::Trilinear, 0, 0.25f, 0.25f, 0, 100.0f, std::nanf(""), 0, nanSecond);
+  EXPECT_EQ(nanFirst[0], quad.levels.back().rgba[0]);
+  EXPECT_EQ(nanSecond[0], quad.levels.back().rgba[0]);
   imageLookup(-1, ImageFilter::Bilinear, 0, 0.5f, 0.5f, 0, 0, 0, 0, out);
   EXPECT_EQ(std::vector<float>(out, out + 4), std::vector<float>(4, 0.0f));
   imageLookup(1 << 30, ImageFilter::Bilinear, 0, 0.5f, 0.5f, 0, 0, 0, 0, out);

@@ -156,6 +156,21 @@ TEST(ClosureLobes, UnsupportedLayersFailCleanly) {
   EXPECT_FALSE(shade(c.bindings.bindings[1]).result.ok);
 }
 
+// NaN or infinite colours (which the RGB fit would sanitise to 0 or 1) and mix weights (which
+// skipped both branches) are failed evaluations, counted, not silently black or white.
+TEST(ClosureLobes, NonFiniteColoursAndMixWeightsFail) {
+  const Compiled c = compileEntries(
+      "export fn nan_albedo(h: Hit) -> Material = diffuse(rgb(0.0 / 0.0, 0.5, 0.5))\n"
+      "export fn inf_albedo(h: Hit) -> Material = diffuse(rgb(1.0 / 0.0, 0.5, 0.5))\n"
+      "export fn nan_mix(h: Hit) -> Material = mix_material(diffuse(spectrum(0.5)), diffuse(spectrum(0.2)), 0.0 / 0.0)\n"
+      "export fn nan_emission(h: Hit) -> Material = emission(rgb(0.0 / 0.0, 1.0, 1.0))\n"
+      "export fn fine(h: Hit) -> Material = mix_material(diffuse(rgb(0.5, 0.4, 0.3)), emission(rgb(1.0, 2.0, 3.0)), 0.5)\n",
+      {"nan_albedo", "inf_albedo", "nan_mix", "nan_emission", "fine"});
+  ASSERT_EQ(c.bindings.bindings.size(), 5u);
+  for (int i = 0; i < 4; ++i) EXPECT_FALSE(shade(c.bindings.bindings[size_t(i)]).result.ok) << i;
+  EXPECT_TRUE(shade(c.bindings.bindings[4]).result.ok);
+}
+
 }  // namespace
 }  // namespace tex::render
 
