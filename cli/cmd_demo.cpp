@@ -115,7 +115,8 @@ int runAnalyticDemo(const Args& args) {
       if (!value() || !parseCount(v, count) || count == 0) return usage("--chunk needs a positive count");
       options.chunkSize = count;
     } else if (a == "--seed") {
-      if (!value() || !parseCount(v, seed)) return usage("--seed needs a non-negative integer");
+      // Exactly (parseCount goes through a double: 2^53 + 1 became 2^53).
+      if (!value() || !parseUnsigned(v, seed)) return usage("--seed needs a non-negative integer");
     } else if (a == "--spectral") {
       wavelengths = 4;
       if (i + 1 < args.size() && (args[i + 1] == "4" || args[i + 1] == "8")) wavelengths = std::stoi(args[++i]);
@@ -138,6 +139,17 @@ int runAnalyticDemo(const Args& args) {
       return usage("unknown option '" + a + "'");
     }
   }
+  // Outputs are checked before the run, as tex render does.
+  if (!output.empty()) {
+    const std::string ext = std::filesystem::path(output).extension().string();
+    if (ext != ".exr" && ext != ".png") return usage("output must end in .exr or .png, got '" + output + "'");
+  }
+  for (const std::string& path : {output, samplesOut})
+    if (!path.empty())
+      if (const std::string problem = outputDirectoryProblem(path); !problem.empty()) {
+        std::fprintf(stderr, "tex demo: error: %s\n", problem.c_str());
+        return 1;
+      }
   settings.valueKind = wavelengths > 0 ? ValueKind::SpectralRadianceOverPdf : ValueKind::Scalar;
   const AnalyticKernel kernel{sampling::Sampler(samplerKind, seed), image, settings.valueKind, std::max(1, wavelengths)};
 
@@ -200,7 +212,7 @@ int runAnalyticDemo(const Args& args) {
       return 1;
     }
   }
-  return 0;
+  return run.result.cancelled ? 130 : 0;  // as tex render: 128 + SIGINT
 }
 
 int runConvergenceDemo(const Args& args) {

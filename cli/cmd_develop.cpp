@@ -114,15 +114,27 @@ int runDevelop(const Args& args) {
     }
     const SampleFileHeader& h = infos[k].header;
     const SampleFileHeader& first = infos[0].header;
-    if (h.sceneHash != first.sceneHash || h.seed != first.seed || h.valueKind != first.valueKind) {
-      std::fprintf(stderr, "tex develop: error: %s: not from the same render as %s (scene hash, seed or value kind differ)\n",
-                   inputs[k].c_str(), inputs[0].c_str());
+    // Sampler, wavelength count and integrator too: renders that differ in them would merge
+    // into an image whose metadata (copied from the first file) describes neither.
+    std::string differs;
+    if (h.sceneHash != first.sceneHash) differs = "scene hash";
+    else if (h.seed != first.seed) differs = "seed";
+    else if (h.valueKind != first.valueKind) differs = "value kind";
+    else if (h.sampler != first.sampler) differs = "sampler";
+    else if (h.wavelengthsPerRecord != first.wavelengthsPerRecord) differs = "wavelengths per path";
+    else if (h.integrator != first.integrator) differs = "integrator";
+    if (!differs.empty()) {
+      std::fprintf(stderr, "tex develop: error: %s: not from the same render as %s (the %s differs)\n", inputs[k].c_str(),
+                   inputs[0].c_str(), differs.c_str());
       return 1;
     }
     allRanges.insert(allRanges.end(), infos[k].ranges.begin(), infos[k].ranges.end());
   }
   if (runtime::rangesOverlap(allRanges)) {
-    std::fprintf(stderr, "tex develop: error: the sample files overlap in their index ranges (samples would count twice)\n");
+    std::string names;
+    for (const std::string& input : inputs) names += (names.empty() ? "" : ", ") + input;
+    std::fprintf(stderr, "tex develop: error: %s: the sample files overlap in their index ranges (samples would count twice)\n",
+                 names.c_str());
     return 1;
   }
   settings.valueKind = infos[0].header.valueKind;

@@ -194,6 +194,12 @@ printf 'export fn paint(h: Hit, c: Color) -> Material = diffuse(c)\n' > "$tmp/pa
 quad_scene "$tmp/intcolour.json" paint.tex paint '{"c": 1}'
 expect_exit 0 "Int for a Color parameter" "$tex" render "$tmp/intcolour.json" --spp 1 --res 8x8 -q -o "$tmp/x.exr"
 
+# develop refuses to merge sample files of renders that differ in their sampler.
+"$tex" demo analytic --range 0:20k --samples-out "$tmp/da.tsp" -o "$tmp/da.exr" > /dev/null 2>&1
+"$tex" demo analytic --range 20k:40k --sampler random --samples-out "$tmp/dr.tsp" -o "$tmp/dr.exr" > /dev/null 2>&1
+expect_exit 1 "develop of two samplers" "$tex" develop "$tmp/da.tsp" "$tmp/dr.tsp" -o "$tmp/mix.exr"
+echo "$out" | grep -q "the sampler differs" || fail "sample files of two samplers were merged: $out"
+
 # tex eval: Ctrl-C keeps the partial image (exit 130), as tex render does.
 expect_interrupted eval "$tmp/e.log" "$tmp/eval_part.png" "interrupted" \
   "$tex" eval "$src/scenes/marble.tex" --fn marble --size 8192x8192 -o "$tmp/eval_part.png"
