@@ -225,7 +225,15 @@ int runEval(const Args& args) {
   progress.finish(true);
   for (size_t n : nonFiniteRows) nonFinite += n;
   double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  std::string err = writeRgbImage(o.output, image, {{"tex:source", o.file}, {"tex:function", o.function}});
+  // Whether every row was evaluated, decided before writing (a Ctrl-C during the write must not
+  // call a complete image partial), and said in the image too.
+  const uint64_t pixelsDone = progress.done();
+  const bool interrupted = pixelsDone < uint64_t(o.width) * uint64_t(o.height);
+  std::map<std::string, std::string> metadata = {{"tex:source", o.file}, {"tex:function", o.function}};
+  if (interrupted)
+    metadata["tex:interrupted"] = std::to_string(pixelsDone) + " of " + std::to_string(uint64_t(o.width) * uint64_t(o.height)) +
+                                  " pixels evaluated; the others are black";
+  std::string err = writeRgbImage(o.output, image, metadata);
   if (!err.empty()) {
     std::fprintf(stderr, "tex eval: error: %s\n", err.c_str());
     return 1;
@@ -237,7 +245,6 @@ int runEval(const Args& args) {
     std::snprintf(buf, sizeof buf, "JIT O1, compiled in %.1f ms%s", stats.milliseconds, stats.cacheHit ? " (cache hit)" : "");
     how = buf;
   }
-  const bool interrupted = sigint.interrupted();
   std::fprintf(stderr, "tex eval: %s %dx%d in %.2f s (%.2f Mpixel/s, %s)%s\n", o.output.c_str(), o.width, o.height,
                seconds, double(progress.done()) / seconds * 1e-6, how.c_str(),
                interrupted ? " (interrupted: rows not evaluated are black)" : "");

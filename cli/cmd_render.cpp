@@ -371,11 +371,11 @@ int runRender(const Args& args) {
   if (!writeErrors.empty()) return 1;
 
   const double seconds = std::max(result.seconds, 1e-9);
-  std::printf("%s: %llu samples (%.2f spp) in %.2f s, %s samples/s, %s rays/s, %d threads%s; %llu NaN/Inf samples zeroed%s -> %s\n",
+  std::printf("%s: %llu samples (%.2f spp) in %.2f s, %s samples/s, %s rays/s, %d thread%s%s; %llu NaN/Inf samples zeroed%s -> %s\n",
               f.scene.c_str(), (unsigned long long)result.samplesDone,
               double(result.samplesDone) / double(uint64_t(filmWidth) * uint64_t(filmHeight)), seconds,
               formatRate(double(result.samplesDone) / seconds).c_str(), formatRate(double(counters.rays) / seconds).c_str(),
-              result.workerSlots,
+              result.workerSlots, result.workerSlots == 1 ? "" : "s",
               result.cancelled ? " (interrupted: partial image)" : result.timeBudgetReached ? " (time budget reached)" : "",
               (unsigned long long)counters.nonFiniteSamples,
               counters.materialFailures ? (", " + std::to_string(counters.materialFailures) + " material evaluation failures").c_str() : "",

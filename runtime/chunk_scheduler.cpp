@@ -1,11 +1,13 @@
 #include "runtime/chunk_scheduler.h"
 
+#include <oneapi/tbb/global_control.h>
 #include <oneapi/tbb/info.h>
 #include <oneapi/tbb/task_arena.h>
 #include <oneapi/tbb/task_group.h>
 
 #include <algorithm>
 #include <chrono>
+#include <optional>
 
 #include "runtime/progress.h"
 
@@ -60,6 +62,11 @@ SchedulerResult runChunks(IndexRange range, const SchedulerOptions& options, con
     return stop.load(std::memory_order_relaxed);
   };
 
+  // More threads than cores, when asked for: TBB's global worker limit (the core count) would
+  // otherwise run 2 of 16 requested slots, with a warning, while the summary said 16.
+  std::optional<tbb::global_control> allowMore;
+  if (result.workerSlots > tbb::info::default_concurrency())
+    allowMore.emplace(tbb::global_control::max_allowed_parallelism, size_t(result.workerSlots));
   tbb::task_arena arena(result.workerSlots);
   uint64_t chunkBase = 0;  // global index of the epoch's first chunk
   const std::vector<IndexRange> epochs = splitIntoEpochs(range, options.epochSize);
