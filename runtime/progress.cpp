@@ -36,7 +36,7 @@ double ProgressReporter::elapsedSeconds() const {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
 }
 
-std::string ProgressReporter::formatLine(uint64_t done, uint64_t total, double seconds, double timeBudgetSeconds) {
+std::string ProgressReporter::formatLine(uint64_t done, uint64_t total, double seconds, double timeBudgetSeconds, bool withEta) {
   const double rate = seconds > 0 ? double(done) / seconds : 0.0;
   std::string line = humanCount(double(done)) + "samples, " + humanCount(rate) + "samples/s";
   double eta = -1;
@@ -50,7 +50,7 @@ std::string ProgressReporter::formatLine(uint64_t done, uint64_t total, double s
     const double left = std::max(0.0, timeBudgetSeconds - seconds);
     eta = eta < 0 ? left : std::min(eta, left);
   }
-  if (eta >= 0) {
+  if (withEta && eta >= 0) {
     char buffer[32];
     std::snprintf(buffer, sizeof buffer, ", ETA %.0f s", std::ceil(eta));
     line += buffer;
@@ -60,7 +60,7 @@ std::string ProgressReporter::formatLine(uint64_t done, uint64_t total, double s
 
 void ProgressReporter::print(bool final) {
   reported_ = true;
-  const std::string line = formatLine(done(), total_, elapsedSeconds(), final ? 0.0 : timeBudgetSeconds_);
+  const std::string line = formatLine(done(), total_, elapsedSeconds(), final ? 0.0 : timeBudgetSeconds_, !final);
   if (tty_) {
     std::fprintf(out_, "\r%s: %s\033[K%s", label_.c_str(), line.c_str(), final ? "\n" : "");
   } else {

@@ -30,7 +30,9 @@ class ProgressReporter {
   double elapsedSeconds() const;
 
   // "1.23 M samples, 45.6 M samples/s, 62%, ETA 3 s" (exposed for tests).
-  static std::string formatLine(uint64_t done, uint64_t total, double seconds, double timeBudgetSeconds);
+  // withEta false: the final line, after which nothing is left to wait for (a stopped run's
+  // last line had shown the ETA of the work it would no longer do).
+  static std::string formatLine(uint64_t done, uint64_t total, double seconds, double timeBudgetSeconds, bool withEta = true);
 
  private:
   void loop();

@@ -309,6 +309,8 @@ TEST(Stream, EpochsAreBarriersAlignedToMultiples) {
 TEST(Progress, FormatsRateAndEta) {
   EXPECT_EQ(ProgressReporter::formatLine(2000000, 4000000, 2.0, 0), "2.00 M samples, 1.00 M samples/s, 50%, ETA 2 s");
   EXPECT_EQ(ProgressReporter::formatLine(500, 0, 1.0, 10.0), "500 samples, 500 samples/s, ETA 9 s");
+  // The final line of a stopped run has no ETA.
+  EXPECT_EQ(ProgressReporter::formatLine(1000000, 4000000, 2.0, 0, false), "1.00 M samples, 500.00 k samples/s, 25%");
   ProgressReporter silent("test", 100, 0, nullptr);
   silent.start();
   silent.add(40);
