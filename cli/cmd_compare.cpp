@@ -1,5 +1,7 @@
 // `tex compare`: image differences (RMSE, relative MSE, per-pixel Z-test with variances).
+#include <cctype>
 #include <cstdio>
+#include <filesystem>
 
 #include "cli/command.h"
 #include "renderer/image/compare.h"
@@ -28,7 +30,9 @@ int usage(const std::string& message) {
 }
 
 std::string readAny(const std::string& path, ExrImage& out) {
-  const bool png = path.size() >= 4 && path.substr(path.size() - 4) == ".png";
+  std::string extension = std::filesystem::path(path).extension().string();
+  for (char& ch : extension) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+  const bool png = extension == ".png";  // any case: C1.PNG was read as OpenEXR
   if (!png) return readExr(path, out);
   RgbImage rgb;
   if (std::string e = readRgbImage(path, rgb); !e.empty()) return e;
@@ -91,7 +95,9 @@ int runCompare(const Args& args) {
                   (unsigned long long)c.zCount, c.zMeanSquare, 100.0 * c.zOutlierFraction,
                   c.zPass ? "consistent within noise" : "NOT consistent within noise");
     } else {
-      std::printf("z-test: no variance channels\n");
+      // Without variance channels, or with only zero variances (1 sample per pixel: no
+      // estimate of the noise), there is nothing to test against.
+      std::printf("z-test: no variance estimates (no variance channels, or all zero, as at 1 sample per pixel)\n");
     }
   }
   if (maxRmse >= 0 && !(c.rmse <= maxRmse)) {  // a NaN rmse (non-finite pixels) fails too

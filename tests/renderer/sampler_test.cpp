@@ -246,6 +246,24 @@ TEST(PixelGrid, EveryPixelGetsItsSamplesFromItsOwnCellOfEachBlock) {
       EXPECT_EQ(*std::max_element(strata.begin(), strata.end()), 1) << c.width << "x" << c.height;
     }
   }
+  // Past 2^32 Sobol indices (large images at high counts) a sample still lands in its pixel.
+  {
+    PixelGrid grid;
+    grid.width = grid.imageWidth = 64;
+    grid.height = grid.imageHeight = 48;
+    const Sampler gridded(SamplerKind::Sobol, 3, grid);
+    for (uint64_t p : {uint64_t(0), uint64_t(5), uint64_t(3071)}) {
+      const FilmPosition low = gridded.filmPosition(p);
+      const uint64_t far = p + uint64_t(64 * 48) * (uint64_t(1) << 21);  // block 2^21: index past 2^33
+      const IndexSampler samples(gridded, far);
+      ASSERT_GT(samples.index(), uint64_t(1) << 32);
+      const FilmPosition high = samples.filmPosition();
+      EXPECT_EQ(int(low.x * 64), int(high.x * 64)) << p;
+      EXPECT_EQ(int(low.y * 48), int(high.y * 48)) << p;
+      EXPECT_GE(samples.get(7), 0.0f);
+      EXPECT_LT(samples.get(7), 1.0f);
+    }
+  }
   // A crop window's pixels draw the full image's points.
   PixelGrid full, crop;
   full.width = full.imageWidth = crop.imageWidth = 90;
