@@ -161,22 +161,27 @@ TEST(Stream, EmptyRangeRunsNothingButEndsSinks) {
   EXPECT_TRUE(sink.ended);
 }
 
+// Runs [0, end) in chunks of 100 on `threads`, raising the cancel flag while at index cancelAt.
+SchedulerResult runCancellingAt(uint64_t end, int threads, uint64_t cancelAt, RecordingSink& sink) {
+  std::atomic<bool> cancel{false};
+  Sink<IndexRecord>* sinks[] = {&sink};
+  SchedulerOptions options;
+  options.threads = threads;
+  options.chunkSize = 100;
+  options.cancel = &cancel;
+  return runStream<IndexRecord>(
+      {0, end}, options,
+      [&](uint64_t i, Emitter<IndexRecord>& out) {
+        if (i == cancelAt) cancel = true;
+        out.emit({i, 1});
+      },
+      std::span<Sink<IndexRecord>* const>(sinks));
+}
+
 TEST(Stream, CancellationKeepsExactlyTheDeliveredChunks) {
   for (int threads : {1, 2}) {
-    std::atomic<bool> cancel{false};
     RecordingSink sink;
-    Sink<IndexRecord>* sinks[] = {&sink};
-    SchedulerOptions options;
-    options.threads = threads;
-    options.chunkSize = 100;
-    options.cancel = &cancel;
-    SchedulerResult result = runStream<IndexRecord>(
-        {0, 1000000}, options,
-        [&](uint64_t i, Emitter<IndexRecord>& out) {
-          if (i == 5050) cancel = true;
-          out.emit({i, 1});
-        },
-        std::span<Sink<IndexRecord>* const>(sinks));
+    const SchedulerResult result = runCancellingAt(1000000, threads, 5050, sink);
     EXPECT_TRUE(result.cancelled);
     EXPECT_LT(result.samplesDone, 1000000u);
     EXPECT_GE(result.samplesDone, 5100u);  // the chunk that set the flag finishes
@@ -193,20 +198,8 @@ TEST(Stream, CancellationKeepsExactlyTheDeliveredChunks) {
 // the top of the index space do not wrap (begin + chunkSize overflowed to an empty chunk).
 TEST(Stream, AStopAfterTheLastChunkLeavesTheRunCompleteAndChunksDoNotWrap) {
   for (int threads : {1, 2}) {
-    std::atomic<bool> cancel{false};
     RecordingSink sink;
-    Sink<IndexRecord>* sinks[] = {&sink};
-    SchedulerOptions options;
-    options.threads = threads;
-    options.chunkSize = 100;
-    options.cancel = &cancel;
-    const SchedulerResult result = runStream<IndexRecord>(
-        {0, 100}, options,
-        [&](uint64_t i, Emitter<IndexRecord>& out) {
-          if (i == 99) cancel = true;  // during the only chunk
-          out.emit({i, 1});
-        },
-        std::span<Sink<IndexRecord>* const>(sinks));
+    const SchedulerResult result = runCancellingAt(100, threads, 99, sink);  // during the only chunk
     EXPECT_EQ(result.samplesDone, 100u);
     EXPECT_FALSE(result.cancelled);
     EXPECT_FALSE(sink.endResult.cancelled);
