@@ -100,6 +100,7 @@ GltfInputs gltfInputs(const SceneDescription& scene, const GltfMaterial& m, cons
       std::clamp(m.transmissionFactor * lookupTexture(scene, m.transmissionTexture, point.uv, point.uv1, false).x, 0.0f, 1.0f);
   in.ior = m.ior;
   in.dispersion = m.dispersion;
+  in.thinWalled = m.thinWalled ? 1.0f : 0.0f;
   in.emission = emissionRgb(scene, m, point);
   return in;
 }

@@ -3,6 +3,7 @@
 // scatters is the tex function std.gltf.metallic_roughness (stdlib/std/gltf.tex), called with
 // these inputs (renderer/material/material_system.cpp).
 #pragma once
+#include <array>
 #include "renderer/bsdf/bsdf.h"
 #include "renderer/material/material_system.h"
 
@@ -12,7 +13,13 @@ namespace tex::render {
 struct GltfInputs {
   Vec3 baseColor{1.0f};  // baseColorFactor x sRGB-decoded texture x COLOR_0, clamped to [0, 1]
   float metallic = 0, roughness = 1, transmission = 0, ior = 1.5f, dispersion = 0;
+  float thinWalled = 0;  // 1: GltfMaterial::thinWalled
   Vec3 emission{0.0f};   // emissiveFactor x strength x sRGB-decoded texture
+  // The entry's arguments after the Hit, in std.gltf's order (tex_binding.h, CompiledGltf).
+  std::array<float, 12> words() const {
+    return {baseColor.x, baseColor.y, baseColor.z, metallic, roughness, transmission, ior, dispersion, thinWalled,
+            emission.x, emission.y, emission.z};
+  }
 };
 GltfInputs gltfInputs(const SceneDescription& scene, const GltfMaterial& material, const ShadingPoint& point);
 

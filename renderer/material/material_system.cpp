@@ -68,10 +68,9 @@ bool evaluateGltf(const MaterialSystem::Impl& im, const GltfMaterial& m, const S
                   const Wavelengths& lambda, Bsdf& bsdf, Spectrum& emission) {
   applyGltfNormalMap(*im.scene, m, point, bsdf);
   const GltfInputs in = gltfInputs(*im.scene, m, point);
-  const float args[kGltfArgumentWords] = {in.baseColor.x, in.baseColor.y, in.baseColor.z, in.metallic, in.roughness,
-                                          in.transmission, in.ior, in.dispersion, in.emission.x, in.emission.y,
-                                          in.emission.z};
-  return evaluateEntry(im.gltfMaterial.entry, args, kGltfArgumentWords, point, lambda, &bsdf, emission).ok;
+  const auto args = in.words();
+  static_assert(args.size() == size_t(kGltfArgumentWords));
+  return evaluateEntry(im.gltfMaterial.entry, args.data(), kGltfArgumentWords, point, lambda, &bsdf, emission).ok;
 }
 
 }  // namespace

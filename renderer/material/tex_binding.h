@@ -35,14 +35,14 @@ struct CompiledBindings {
 
 // std.gltf.metallic_roughness compiled on its own: the material of every glTF material that no
 // binding overrides. Its arguments after the Hit are GltfInputs' fields in order
-// (renderer/material/gltf_material.h): 3 + 5 + 3 = 11 words.
+// (renderer/material/gltf_material.h): 3 + 6 + 3 = 12 words.
 struct CompiledGltf {
   std::unique_ptr<compiler::CompiledModule> module;
   compiler::EntryFn entry = nullptr;
   bool hitIndependent = false;  // std.gltf reads only its inputs, not the Hit (hit_dependence.h)
   double compileMs = 0;
 };
-inline constexpr int kGltfArgumentWords = 11;
+inline constexpr int kGltfArgumentWords = 12;
 bool compileGltfMaterial(int wavelengths, bool quick, bool useCache, CompiledGltf& out, std::string& error);
 
 // Returns false with rendered diagnostics in `error`.

@@ -160,6 +160,7 @@ GltfMaterial convert(GltfImport& import, const tinygltf::Material& m, int index)
       import.warnOnce("ext/" + name, "material extension " + name + " is not supported; ignored");
     }
   }
+  out.thinWalled = !(out.thicknessFactor > 0.0f);
   return out;
 }
 

@@ -86,6 +86,10 @@ struct GltfMaterial {
   enum class AlphaMode : uint8_t { Opaque, Mask, Blend } alphaMode = AlphaMode::Opaque;
   float alphaCutoff = 0.5f;
   bool doubleSided = false;
+  // Transmission through an infinitely thin wall (no refraction): glTF's reading of a material
+  // whose thickness is 0 (no KHR_materials_volume, or thicknessFactor 0). Scene-file
+  // pbr_materials are solid unless they say "thin_walled".
+  bool thinWalled = false;
 };
 
 // A parameter value given to a .tex material by the scene file.

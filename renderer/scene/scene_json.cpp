@@ -84,7 +84,7 @@ class SceneJsonLoader {
 
   void pbrMaterial(const JsonAt& at, const std::string& name) {
     if (!r_.checkKeys(at, {"base_color", "metallic", "roughness", "emissive", "emissive_strength", "transmission",
-                           "ior", "dispersion", "double_sided"}))
+                           "ior", "dispersion", "double_sided", "thin_walled"}))
       return;
     GltfMaterial m;
     m.name = name;
@@ -97,7 +97,8 @@ class SceneJsonLoader {
     bool ok = r_.number(at, "metallic", m.metallicFactor, 0, 1) && r_.number(at, "roughness", m.roughnessFactor, 0, 1) &&
               r_.vec3(at, "emissive", m.emissiveFactor) && r_.number(at, "emissive_strength", m.emissiveStrength, 0) &&
               r_.number(at, "transmission", m.transmissionFactor, 0, 1) && r_.number(at, "ior", m.ior, 1) &&
-              r_.number(at, "dispersion", m.dispersion, 0) && r_.boolean(at, "double_sided", m.doubleSided);
+              r_.number(at, "dispersion", m.dispersion, 0) && r_.boolean(at, "double_sided", m.doubleSided) &&
+              r_.boolean(at, "thin_walled", m.thinWalled);
     if (!ok) return;
     if (materialNamed(name) >= 0) return r_.error(at, "a material named \"" + name + "\" already exists");
     scene_.materials.push_back(m);

@@ -274,7 +274,8 @@ TEST(GltfLoader, AttenuationTestReadsVolumeParameters) {
   SKIP_WITHOUT_SHARED();
   SceneDescription scene = mustLoad("AttenuationTest/glTF-Binary/AttenuationTest.glb");
   int volumetric = 0;
-  for (const GltfMaterial& m : scene.materials)
+  for (const GltfMaterial& m : scene.materials) {
+    EXPECT_EQ(m.thinWalled, !(m.thicknessFactor > 0)) << m.name;  // glTF: thickness 0 is a thin wall
     if (m.thicknessFactor > 0) {
       ++volumetric;
       EXPECT_NEAR(m.attenuationColor.r, 0.1f, 1e-4f);
@@ -282,6 +283,7 @@ TEST(GltfLoader, AttenuationTestReadsVolumeParameters) {
       EXPECT_NEAR(m.attenuationColor.b, 0.9f, 1e-4f);
       EXPECT_GE(m.attenuationDistance, 0.25f);
     }
+  }
   EXPECT_EQ(volumetric, 11);
   // 292 triangles instanced from 232 stored: meshes shared by nodes are stored once.
   size_t stored = 0;

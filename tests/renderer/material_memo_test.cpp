@@ -242,10 +242,8 @@ TEST(MaterialMemo, GltfMaterialsWithoutTexturesReplayAndTexturedOnesDoNot) {
         Spectrum eSystem, eFresh;
         ASSERT_TRUE(materials->shade(int(m), p, lambda, viaSystem, eSystem));
         const GltfInputs in = gltfInputs(scene, scene.materials[m], p);
-        const float args[kGltfArgumentWords] = {in.baseColor.x, in.baseColor.y, in.baseColor.z, in.metallic, in.roughness,
-                                                in.transmission, in.ior, in.dispersion, in.emission.x, in.emission.y,
-                                                in.emission.z};
-        ASSERT_TRUE(evaluateEntry(direct.entry, args, kGltfArgumentWords, p, lambda, &fresh, eFresh).ok);
+        const auto args = in.words();
+        ASSERT_TRUE(evaluateEntry(direct.entry, args.data(), kGltfArgumentWords, p, lambda, &fresh, eFresh).ok);
         EXPECT_TRUE(sameLobeParameters(viaSystem, fresh)) << "material " << m << " round " << round;
         EXPECT_EQ(viaSystem.hasCoat(), fresh.hasCoat());
         EXPECT_TRUE(sameBits(eSystem, eFresh)) << "material " << m << " round " << round;
@@ -306,10 +304,8 @@ TEST(MaterialMemo, GltfVertexColoursAndSecondUvSetReachShading) {
     Spectrum eSystem, eFresh;
     ASSERT_TRUE(materials->shade(materials->materialOfPrimitive(0), p, lambda, viaSystem, eSystem));
     const GltfInputs in = gltfInputs(scene, plastic, p);
-    const float args[kGltfArgumentWords] = {in.baseColor.x, in.baseColor.y, in.baseColor.z, in.metallic, in.roughness,
-                                            in.transmission, in.ior, in.dispersion, in.emission.x, in.emission.y,
-                                            in.emission.z};
-    ASSERT_TRUE(evaluateEntry(direct.entry, args, kGltfArgumentWords, p, lambda, &fresh, eFresh).ok);
+    const auto args = in.words();
+    ASSERT_TRUE(evaluateEntry(direct.entry, args.data(), kGltfArgumentWords, p, lambda, &fresh, eFresh).ok);
     EXPECT_TRUE(sameLobeParameters(viaSystem, fresh)) << "round " << round;
     if (round > 0) {
       EXPECT_FALSE(sameLobeParameters(previous, fresh)) << "round " << round;

@@ -431,6 +431,37 @@ TEST(PathTracer, NormalMapsTiltTheCosineOfTheLight) {
   EXPECT_NEAR(mean[1] / mean[0], std::sqrt(2.0), 0.01);
 }
 
+// glTF transmission: a material of thickness 0 is a thin wall (no refraction: a single-quad
+// window under a white sky passes it all, where a solid's 1/eta^2 gave 0.47), and the base
+// colour tints the transmitted light only: red glass reflects the sky's white in green and
+// blue (F(0) = 0.04), where its reflection had been tinted red too.
+TEST(PathTracer, GltfThinWallsPassLightUnbentAndTintOnlyTheTransmission) {
+  struct Case {
+    Vec3 base;
+    float transmission;
+    Vec3 expected;
+  };
+  // Half transmissive white: half plastic (a white base under a smooth coat reflects all) and
+  // half glass, with one coat between them (a second coat had failed the material).
+  for (const Case c : {Case{Vec3(1.0f), 1.0f, Vec3(1.0f)}, Case{Vec3(1.0f, 0.0f, 0.0f), 1.0f, Vec3(1.0f, 0.04f, 0.04f)},
+                       Case{Vec3(1.0f), 0.5f, Vec3(1.0f)}}) {
+    GltfMaterial window;
+    window.name = "window";
+    window.baseColorFactor = Vec4(c.base, 1.0f);
+    window.metallicFactor = 0.0f;
+    window.roughnessFactor = 0.0f;
+    window.transmissionFactor = c.transmission;
+    window.thinWalled = true;
+    const DevelopedImage img = renderGltfQuadHeadOn(window, 4, whiteRgbSky());
+    ASSERT_GT(img.width, 0);
+    for (int ch = 0; ch < 3; ++ch) {
+      const Estimate e = channelMean(img, ch);
+      EXPECT_NEAR(e.mean, c.expected[ch], 4 * e.standardError + 4e-3)
+          << "base " << c.base.y << " transmission " << c.transmission << " channel " << ch;
+    }
+  }
+}
+
 // glTF dielectrics seen head-on under a white sky: over a black base the Fresnel coat still
 // reflects F(0) = ((ior - 1) / (ior + 1))^2 (its base lobe, of weight 0, was dropped and the
 // path stopped at an "empty" Bsdf: black glossy materials reflected nothing), and an ior of 1
