@@ -164,6 +164,8 @@ int runAnalyticDemo(const Args& args) {
     header.compression = compress ? SampleCompression::Zstd : SampleCompression::None;
     header.sampler = uint8_t(samplerKind);
     header.integrator = std::string("analytic-") + analyticImageName(image);
+    header.imageWidth = uint32_t(settings.width);
+    header.imageHeight = uint32_t(settings.height);
     if (std::string e = writer.open(samplesOut, header); !e.empty()) {
       std::fprintf(stderr, "tex demo: error: %s\n", e.c_str());
       return 1;

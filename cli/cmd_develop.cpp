@@ -27,7 +27,8 @@ const char* kDevelopUsage =
     "\n"
     "options:\n"
     "  -o, --output PATH       .exr (float RGB + metadata) or .png (8-bit sRGB)\n"
-    "  --res WxH               resolution (default 512x512)\n"
+    "  --res WxH               resolution (default: the render's, as its sample file records it;\n"
+    "                          512x512 for files that do not)\n"
     "  --filter NAME           box | tent | gaussian | mitchell (default box)\n"
     "  --estimator NAME        weighted (sum a c / sum a, default) | density (sum a c * W*H / N)\n"
     "  --half                  write half-float EXR channels\n"
@@ -58,7 +59,7 @@ int runDevelop(const Args& args) {
   std::vector<std::string> inputs;
   std::string output, thumbnail;
   FilmSettings settings;
-  settings.width = settings.height = 512;
+  settings.width = settings.height = 0;  // 0: from the files, else 512x512
   FilmEstimator estimator = FilmEstimator::Weighted;
   bool half = false, variance = true, quiet = false;
   for (size_t i = 0; i < args.size(); ++i) {
@@ -136,6 +137,14 @@ int runDevelop(const Args& args) {
     std::fprintf(stderr, "tex develop: error: %s: the sample files overlap in their index ranges (samples would count twice)\n",
                  names.c_str());
     return 1;
+  }
+  if (settings.width == 0) {
+    // The render's own size: a non-square render developed at the old 512x512 default came out
+    // stretched.
+    const SampleFileHeader& h = infos[0].header;
+    const bool recorded = h.imageWidth > 0 && h.imageHeight > 0 && h.imageWidth <= 65536 && h.imageHeight <= 65536;
+    settings.width = recorded ? int(h.imageWidth) : 512;
+    settings.height = recorded ? int(h.imageHeight) : 512;
   }
   settings.valueKind = infos[0].header.valueKind;
   if (settings.valueKind == ValueKind::Scalar) settings.spectralBins = 0;

@@ -294,6 +294,8 @@ int runRender(const Args& args) {
     header.wavelengthsPerRecord = uint8_t(s.wavelengths);
     header.sampler = uint8_t(f.sampler);
     header.integrator = "path";
+    header.imageWidth = uint32_t(s.width);
+    header.imageHeight = uint32_t(s.height);
     if (std::string e = writer.open(f.samplesOut, header); !e.empty()) return fail(e);
     fileSink = std::make_unique<SampleFileSink>(writer);
   }

@@ -25,7 +25,7 @@ constexpr uint64_t kMaxFooterRanges = 1u << 24;
 enum : size_t {
   kOffVersion = 8, kOffHeaderBytes = 12, kOffSceneHash = 16, kOffSeed = 24, kOffRequestedBegin = 32,
   kOffRequestedEnd = 40, kOffValueKind = 48, kOffWavelengths = 49, kOffCompression = 50, kOffSampler = 51,
-  kOffFooter = 56, kOffIntegrator = 64, kIntegratorBytes = 32,
+  kOffFooter = 56, kOffIntegrator = 64, kIntegratorBytes = 32, kOffImageWidth = 96, kOffImageHeight = 100,
 };
 
 template <class T>
@@ -105,6 +105,8 @@ void encodeHeader(const SampleFileHeader& h, uint64_t footerOffset, uint8_t* out
   out[kOffSampler] = h.sampler;
   put<uint64_t>(out + kOffFooter, footerOffset);
   std::memcpy(out + kOffIntegrator, h.integrator.data(), std::min(h.integrator.size(), size_t(kIntegratorBytes - 1)));
+  put<uint32_t>(out + kOffImageWidth, h.imageWidth);
+  put<uint32_t>(out + kOffImageHeight, h.imageHeight);
 }
 
 // Reads exactly `size` bytes; false at end of file.
@@ -232,6 +234,8 @@ std::string readHeader(std::FILE* f, const std::string& path, SampleFileHeader& 
   }
   if (get<uint32_t>(b + kOffHeaderBytes) != kHeaderBytes) return path + ": corrupt header (header size)";
   h.sceneHash = get<uint64_t>(b + kOffSceneHash);
+  h.imageWidth = get<uint32_t>(b + kOffImageWidth);
+  h.imageHeight = get<uint32_t>(b + kOffImageHeight);
   h.seed = get<uint64_t>(b + kOffSeed);
   h.requested = {get<uint64_t>(b + kOffRequestedBegin), get<uint64_t>(b + kOffRequestedEnd)};
   if (b[kOffValueKind] > uint8_t(ValueKind::Scalar)) return path + ": corrupt header (value kind)";

@@ -33,6 +33,9 @@ struct SampleFileHeader {
   SampleCompression compression = SampleCompression::None;
   uint8_t sampler = 0;                // sampling::SamplerKind
   std::string integrator;             // at most 31 bytes are stored
+  // The render's image size, for tex develop's default resolution (0: not recorded; files
+  // written before it was, or kernels without an image).
+  uint32_t imageWidth = 0, imageHeight = 0;
 };
 
 // What a reader learns from the whole file.

@@ -194,6 +194,13 @@ printf 'export fn paint(h: Hit, c: Color) -> Material = diffuse(c)\n' > "$tmp/pa
 quad_scene "$tmp/intcolour.json" paint.tex paint '{"c": 1}'
 expect_exit 0 "Int for a Color parameter" "$tex" render "$tmp/intcolour.json" --spp 1 --res 8x8 -q -o "$tmp/x.exr"
 
+# develop's default resolution is the render's, as the sample file records it (a non-square
+# render came out stretched to 512x512).
+expect_exit 0 "render 40x24 with samples" "$tex" render "$scene" --spp 2 --res 40x24 -q -o "$tmp/r40.exr" --samples-out "$tmp/r40.tsp"
+expect_exit 0 "develop at the recorded size" "$tex" develop "$tmp/r40.tsp" -o "$tmp/d40.exr"
+expect_exit 0 "compare recorded size" "$tex" compare --json "$tmp/r40.exr" "$tmp/d40.exr"
+echo "$out" | grep -q '"width": 40, "height": 24, "rmse": 0[,}]' || fail "develop did not default to the render's 40x24: $out"
+
 # develop refuses to merge sample files of renders that differ in their sampler.
 "$tex" demo analytic --range 0:20k --samples-out "$tmp/da.tsp" -o "$tmp/da.exr" > /dev/null 2>&1
 "$tex" demo analytic --range 20k:40k --sampler random --samples-out "$tmp/dr.tsp" -o "$tmp/dr.exr" > /dev/null 2>&1

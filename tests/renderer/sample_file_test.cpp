@@ -57,6 +57,8 @@ std::string writeFile(const std::string& path, SampleCompression compression, in
   header.wavelengthsPerRecord = uint8_t(w);
   header.compression = compression;
   header.integrator = "analytic";
+  header.imageWidth = 640;
+  header.imageHeight = 360;
   if (std::string e = writer.open(path, header); !e.empty()) return e;
   // Chunks arrive out of order, as from worker threads.
   for (uint64_t first : {200ull, 100ull, 300ull}) {
@@ -90,6 +92,8 @@ TEST(SampleFile, RoundTripIsLosslessWithAndWithoutCompression) {
       EXPECT_EQ(info.header.seed, 77u);
       EXPECT_EQ(info.header.requested, (IndexRange{100, 400}));
       EXPECT_EQ(info.header.integrator, "analytic");
+      EXPECT_EQ(info.header.imageWidth, 640u);  // the render's size, for develop's default
+      EXPECT_EQ(info.header.imageHeight, 360u);
       EXPECT_EQ(info.header.wavelengthsPerRecord, w);
       SampleFileInfo quick;
       ASSERT_EQ(readSampleFileInfo(path, quick), "");
