@@ -543,6 +543,11 @@ bool parseFile(const std::string& path, tinygltf::Model& model, DecodedImages& d
 
   // The JSON text: the whole file, or a GLB's first chunk (checked again by tinygltf).
   size_t jsonStart = 0, jsonSize = bytes.size();
+  if (binary && bytes.size() >= 12) {
+    uint32_t container = 0;
+    std::memcpy(&container, bytes.data() + 4, 4);
+    if (container != 2) return errors.push_back(path + ": GLB container version " + std::to_string(container) + " (only 2 is glTF 2.0)"), false;
+  }
   if (binary && bytes.size() >= 20) {
     uint32_t chunkLength = 0;
     std::memcpy(&chunkLength, bytes.data() + 12, 4);
@@ -591,6 +596,9 @@ bool appendGltf(const std::string& path, const Mat4& transform, SceneDescription
   DecodedImages decoded;
   std::vector<std::string> warnings;
   if (!parseFile(path, model, decoded, warnings, errors)) return false;
+  // glTF 2.x only: a major version change would mean a format this loader does not know.
+  if (model.asset.version.rfind("2.", 0) != 0)
+    return errors.push_back(path + ": asset.version \"" + model.asset.version + "\" is not glTF 2.x"), false;
   // Accessors without a bufferView are zeros of any count the file claims: bound their total
   // so that a small file cannot make the loader allocate gigabytes (each is also bounded).
   uint64_t unbackedElements = 0;

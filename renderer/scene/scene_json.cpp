@@ -187,6 +187,7 @@ class SceneJsonLoader {
     if (!r_.checkKeys(match, {"material", "mesh"})) return;
     if (SceneJsonReader::keyCount(match) != 1) return r_.error(match, "give exactly one of \"material\" and \"mesh\"");
     if (!r_.string(match, "material", b.matchMaterial) || !r_.string(match, "mesh", b.matchMesh)) return;
+    if (b.matchMaterial.empty() && b.matchMesh.empty()) return r_.error(match, "the name is empty (it would match nothing)");
     std::string file;
     if (!r_.child(at, "file")) return r_.error(at, "missing \"file\" (a .tex module)");
     if (!r_.child(at, "entry")) return r_.error(at, "missing \"entry\" (the exported material function)");
@@ -300,7 +301,15 @@ class SceneJsonLoader {
                                                          : "unknown light type \"" + type + "\" (point, spot, directional or environment)");
     }
     if (!r_.string(at, "name", l.name) || !r_.number(at, "intensity", l.intensity, 0)) return;
-    if (const JsonAt e = r_.child(at, "emission"); e && !r_.spectrum(e, l.emission)) return;
+    if (const JsonAt e = r_.child(at, "emission"); e) {
+      if (!r_.spectrum(e, l.emission)) return;
+      // Negative emission rendered black silently, where a negative intensity is an error.
+      const SpectrumDesc& s = l.emission;
+      bool negative = s.scale < 0 || (s.kind == SpectrumDesc::Kind::Constant && s.value < 0) ||
+                      (s.kind == SpectrumDesc::Kind::Rgb && (s.rgb.x < 0 || s.rgb.y < 0 || s.rgb.z < 0));
+      for (float v : s.values) negative = negative || v < 0;
+      if (negative) return r_.error(e, "a light's emission must not be negative");
+    }
     scene_.lights.push_back(l);
   }
 

@@ -386,6 +386,13 @@ TEST_F(GltfMutated, GarbageBytes) {
   header.append(reinterpret_cast<const char*>(fields), sizeof fields);
   std::vector<std::string> errors;
   EXPECT_FALSE(loadGltf(write("lying.glb", header + "{}"), errors).has_value());
+  // A GLB container of version 1 (glTF 1.0's binary extension) is not read as glTF 2.0.
+  std::string v1 = "glTF";
+  const uint32_t v1Fields[] = {1, 32, 12, 0x4E4F534A};
+  v1.append(reinterpret_cast<const char*>(v1Fields), sizeof v1Fields);
+  errors.clear();
+  EXPECT_FALSE(loadGltf(write("v1.glb", v1 + "{\"a\":1}   "), errors).has_value());
+  EXPECT_TRUE(anyContains(errors, "container version 1"));
 }
 
 TEST_F(GltfMutated, MissingFile) {
@@ -486,6 +493,10 @@ TEST_F(GltfMutated, HostileStructureIsRefusedWithAMessage) {
   expectError(doc, "fifo.bin");
   doc["buffers"][0]["uri"] = ".";
   expectError(doc, "not found");
+  // glTF 2.x only.
+  doc = base_;
+  doc["asset"]["version"] = "3.0";
+  expectError(doc, "not glTF 2.x");
 }
 
 // A field tinygltf drops is reported: a three-number baseColorFactor lost the whole

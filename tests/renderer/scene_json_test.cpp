@@ -207,6 +207,11 @@ TEST(SceneJson, WrongTypesAndRanges) {
             std::string::npos);
   EXPECT_NE(firstError(R"({"lights": [{"type": "laser"}]})").find("unknown light type \"laser\""), std::string::npos);
   EXPECT_NE(firstError(R"({"lights": [{"type": "point", "intensity": -1}]})").find("must be >= 0"), std::string::npos);
+  EXPECT_NE(firstError(R"({"lights": [{"type": "point", "emission": -3}]})").find("must not be negative"), std::string::npos);
+  EXPECT_NE(firstError(R"({"lights": [{"type": "point", "emission": {"rgb": [1, 1, 1], "scale": -1}}]})").find("must not be negative"),
+            std::string::npos);
+  EXPECT_NE(firstError(R"({"materials": [{"match": {"material": ""}, "file": "walls.tex", "entry": "white"}]})").find("the name is empty"),
+            std::string::npos);
   // Beyond a float: said so, not "must be >= 0"; a documented minimum written in the file
   // is accepted (0.001 as a double is above the float 1e-3f it is compared with).
   EXPECT_NE(firstError(R"({"lights": [{"type": "point", "intensity": 1e39}]})").find("32-bit float"), std::string::npos);
