@@ -106,13 +106,13 @@ SampleRecord PathTracer::record(uint64_t index) const {
   rec.filmY = film.y;
   rec.weight = 1.0f;
   rec.technique = kTechniqueCamera;
-  // The hero lane's choice is stratified with the group (Sobol dimensions 2 and 3 form a
-  // (0,2)-sequence's projection) where the lens leaves dimension 3 free; otherwise a hash.
-  const float uHero = scene_.camera().usesLens() ? samples.independent(kHeroLaneStream) : samples.get(kLensDimension);
+  // The hero lane is picked by dimension 3, stratified jointly with the group's dimension 2,
+  // where the lens leaves that dimension free (pinhole, orthographic); otherwise by a hash.
+  const Vec2 uLens(samples.get(kLensDimension), samples.get(kLensDimension + 1));
+  const float uHero = scene_.camera().usesLens() ? samples.independent(kHeroLaneStream) : uLens.x;
   Wavelengths lambda =
       color::sampleWavelengthGroupStratified(samples.get(sampling::kWavelengthDimension), uHero, settings_.wavelengths);
   rec.wavelengthCount = uint8_t(lambda.count);
-  const Vec2 uLens(samples.get(kLensDimension), samples.get(kLensDimension + 1));
   // Where the sample lies on the camera's image (the same position without a crop window:
   // 0 + x * 1 is exact).
   const PathTracerSettings::Window& w = settings_.crop;

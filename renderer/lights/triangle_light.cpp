@@ -154,7 +154,7 @@ float TriangleLight::pdfLi(const Vec3& refPoint, const Vec3& wi, const EmitterPo
 
 std::optional<LightLeSample> TriangleLight::sampleLe(Vec2 uPos, Vec2 uDir, const Wavelengths& lambda) const {
   if (!(area_ > 0.0f) || !emission_) return std::nullopt;
-  EmitterPoint e = pointAt(sampleUniformTriangle(uPos));
+  const EmitterPoint e = pointAt(sampleUniformTriangle(uPos));
   // A two-sided triangle picks its side with uDir.x (then stretched back to [0,1)).
   Vec3 side = n_;
   float sideProbability = 1.0f;
@@ -169,7 +169,6 @@ std::optional<LightLeSample> TriangleLight::sampleLe(Vec2 uPos, Vec2 uDir, const
   }
   const Vec3 wLocal = sampleCosineHemisphere(uDir);
   if (!(wLocal.z > 0.0f)) return std::nullopt;
-  e.n = side;
   LightLeSample s;
   s.ray.origin = e.p;
   s.ray.direction = Frame::fromNormal(side).toWorld(wLocal);

@@ -9,8 +9,9 @@
 // is the point of block s that lands in cell (x, y): Sobol index c(x, y) + s 2^(2r), with c found
 // by inverting the first two dimensions' scrambles and generator matrices (as pbrt-v3's
 // SobolSampler does for its unscrambled points). Sample index i of a render is the
-// floor(i / (W H))-th sample of pixel i mod (W H), so every prefix of the index range covers the
-// film evenly (time limits, Ctrl-C). At square power-of-two resolutions the points are exactly
+// floor(i / (W H))-th sample of the (i mod (W H))-th pixel in the order of their block-0 points
+// (see pixelOrder_), so every prefix of the index range covers the film evenly (time limits,
+// Ctrl-C). At square power-of-two resolutions the points are exactly
 // those the film-wide sequence gave, only enumerated pixel by pixel; elsewhere the cells outside
 // the image are skipped, not wasted. Pixel coordinates are the image's, so a crop window draws
 // the same samples for its pixels as the full render does.

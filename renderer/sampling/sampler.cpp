@@ -44,19 +44,15 @@ const uint32_t* highBytesXorOfBlock(uint32_t indexHigh) {
 
 }  // namespace
 
-namespace {
-PixelSample mapped(const Sampler& sampler, const PixelSampleMap& map, uint64_t index) {
-  if (sampler.hasPixelGrid()) return map.map(index);
-  PixelSample ps;
-  ps.sobolIndex = index;
-  return ps;
-}
-}  // namespace
-
 IndexSampler::IndexSampler(const Sampler& sampler, uint64_t index) : sampler_(sampler) {
-  const PixelSample ps = mapped(sampler, sampler.pixels_, index);
-  index_ = ps.sobolIndex;
-  film_ = sampler.hasGrid_ ? sampler.pixelFilmPosition(ps) : sampler.filmPosition(index);
+  if (sampler.hasGrid_) {
+    const PixelSample ps = sampler.pixels_.map(index);
+    index_ = ps.sobolIndex;
+    film_ = sampler.pixelFilmPosition(ps);
+  } else {
+    index_ = index;
+    film_ = sampler.filmPosition(index);
+  }
   fast_ = sampler.kind_ == SamplerKind::Sobol && (index_ >> 32) == 0;
   lowByte_ = uint32_t(index_) & 0xffu;
   seeds_ = sampler.scrambleSeeds_->data();

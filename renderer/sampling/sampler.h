@@ -38,8 +38,8 @@ inline float scrambledReversedToUnitFloat(uint32_t reversedBits, uint32_t seed) 
 class Sampler {
  public:
   Sampler(SamplerKind kind, uint64_t seed);
-  // A sampler of a render's pixel grid (pixel_grid.h): index i is a sample of pixel
-  // i mod (W H), and each pixel gets its own block of Sobol points. Without a grid the sample
+  // A sampler of a render's pixel grid (pixel_grid.h): every W H consecutive indices give each
+  // pixel one sample, the film-wide sequence's point in its cell. Without a grid the sample
   // index is the point's index in one film-wide sequence (kernels over the unit square).
   Sampler(SamplerKind kind, uint64_t seed, const PixelGrid& grid);
 
