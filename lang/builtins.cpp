@@ -44,7 +44,7 @@ const std::map<std::string, std::vector<BuiltinParam>>& namedBuiltinParams() {
   static const std::map<std::string, std::vector<BuiltinParam>> table = {
       {"dielectric", {{"ior"}, roughness}},
       {"conductor", {{"eta"}, {"k"}, roughness}},
-      {"thin_dielectric", {{"ior"}}},
+      {"thin_dielectric", {{"ior"}, roughness}},
       {"glossy", {{"reflectance"}, {"n"}}},
       {"glossy_dielectric", {{"ior"}, {"n"}}},
       {"layer", {{"coat"}, {"base"}}},
@@ -365,9 +365,11 @@ Node* Builder::builtinCall(const std::string& name, std::vector<TypedArg> args, 
     return material(Prim::MatConductor, operands, expected);
   }
   if (name == "thin_dielectric") {
-    const char* expected = "an IOR: a Float or Spectrum";
-    if (!arity(1)) return noOverload(expected);
-    return material(Prim::MatThinDielectric, {spectrumArg(0)}, expected);
+    // A rough wall (roughness > 0) scatters around both the mirror and the straight-through
+    // direction (renderer/bsdf/thin_dielectric.cpp).
+    const char* expected = "(ior, roughness = 0.0): an IOR Float or Spectrum and a Float";
+    if (!arity(2)) return noOverload(expected);
+    return material(Prim::MatThinDielectric, {spectrumArg(0), scalar(1)}, expected);
   }
   if (name == "glossy") {
     const char* expected = "(reflectance: Color, Spectrum or Float, n: Float)";

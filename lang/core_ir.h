@@ -43,7 +43,7 @@ enum class Prim : uint8_t {
   MatMix,       // (Material, Material, Float) -> Material
   MatDielectric,  // (ior: Spectrum (interior over exterior), roughness: Float) -> Material
   MatConductor,   // (eta: Color|Spectrum, k: Color|Spectrum, roughness: Float) -> Material
-  MatThinDielectric,    // ior: Spectrum -> Material
+  MatThinDielectric,    // ior: Spectrum, roughness: Float -> Material
   MatGlossy,            // (reflectance: Color|Spectrum, n: Float) -> Material
   MatGlossyDielectric,  // (ior: Spectrum, n: Float) -> Material
   MatLayer,             // (coat: Material, base: Material) -> Material

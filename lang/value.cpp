@@ -40,7 +40,8 @@ static std::string formatMaterial(const MaterialNode* m, const WavelengthGroup& 
   if (shape->children > 1) parts.push_back(formatMaterial(m->b.get(), group));
   if (shape->params > 0) parts.push_back(formatValue(m->param, m->paramType, group));
   if (shape->params > 1) parts.push_back(formatValue(m->param2, m->param2Type, group));
-  bool roughness = m->kind == MaterialNode::Kind::Dielectric || m->kind == MaterialNode::Kind::Conductor;
+  bool roughness = m->kind == MaterialNode::Kind::Dielectric || m->kind == MaterialNode::Kind::Conductor ||
+                   m->kind == MaterialNode::Kind::ThinDielectric;
   for (int i = 0; i < shape->scalars; ++i) {
     if (!roughness) parts.push_back(formatFloat(m->scalars[i]));
     else if (m->scalars[i] != 0.0f) parts.push_back("roughness: " + formatFloat(m->scalars[i]));

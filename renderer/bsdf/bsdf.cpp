@@ -40,7 +40,9 @@ bool Bsdf::add(const Lobe& lobe) {
   selection_[count_] = selectionWeight(lobe);
   const bool nonSpecular = !lobeIsSpecular(lobe.kind);
   hasNonSpecular_ = hasNonSpecular_ || (nonSpecular && selection_[count_] > 0.0f);
-  hasDispersiveDensity_ = hasDispersiveDensity_ || (nonSpecular && lobe.etaVaries);
+  // A rough thin wall's lanes differ in R' only, not in their density (thin_dielectric.cpp).
+  hasDispersiveDensity_ =
+      hasDispersiveDensity_ || (nonSpecular && lobe.etaVaries && lobe.kind != LobeKind::RoughThinDielectric);
   storage_.lobes[count_++] = lobe;
   return true;
 }

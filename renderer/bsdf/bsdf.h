@@ -39,6 +39,7 @@ enum class LobeKind : uint8_t {
   RoughConductor,     // GGX, alpha = roughness; eta = a, k = b
   RoughDielectric,    // GGX reflection and transmission, alpha = roughness; eta = a
   ThinDielectric,     // a thin slab (both interfaces, internal bounces summed); eta = a
+  RoughThinDielectric,  // a rough thin slab (GGX, alpha = roughness); eta = a
   GlossyReflection,   // the glossy model (docs/glossy-model.md): exponent n, reflectance = weight
   GlossyDielectric,   // the glossy model around both the mirror and the refracted direction; eta = a
   // Sheen (renderer/bsdf/sheen_lobe.h): the Charlie sheen, colour = weight, alpha = roughness; and
@@ -51,7 +52,7 @@ enum class LobeKind : uint8_t {
 // closure tree a compiled .tex material returns (renderer/material/).
 struct Lobe {
   LobeKind kind = LobeKind::Lambertian;
-  bool etaVaries = false;  // SmoothDielectric: eta differs between the group's wavelengths
+  bool etaVaries = false;  // eta differs between the group's wavelengths (dielectrics)
   Spectrum weight;         // multiplies the lobe's value (albedo of Lambertian)
   Spectrum a, b;           // kind-specific parameters (above)
   float roughness = 0;     // GGX alpha (Rough*)

@@ -10,9 +10,7 @@
 #include "renderer/bsdf/microfacet.h"
 
 namespace tex::render {
-namespace {
 
-// The pair mirrored so that wo is on the upper side; false when not a usable reflection pair.
 bool upperReflectionPair(const Vec3& wo, const Vec3& wi, Vec3& woUp, Vec3& wiUp) {
   if (!(std::fabs(wo.z) >= kMinCosTheta) || !(std::fabs(wi.z) >= kMinCosTheta) || !(wo.z * wi.z > 0.0f)) return false;
   const float s = wo.z > 0.0f ? 1.0f : -1.0f;
@@ -37,14 +35,16 @@ float ggxReflectionKernel(const Vec3& woUp, const Vec3& wiUp, const Vec3& h, flo
 float ggxReflectionPdf(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
   Vec3 woUp, wiUp, h;
   if (!upperReflectionPair(wo, wi, woUp, wiUp) || !halfVector(woUp, wiUp, h)) return 0.0f;
-  const float alpha = clampGgxAlpha(lobe.roughness);
+  return ggxReflectionPairPdf(woUp, h, clampGgxAlpha(lobe.roughness));
+}
+
+float ggxReflectionPairPdf(const Vec3& woUp, const Vec3& h, float alpha) {
   const float cosOh = dot3(woUp, h);
   if (!(cosOh > 0.0f)) return 0.0f;
   const float pdfW = ggxVisibleD(woUp, h, alpha) / (4.0f * cosOh);
   return std::isfinite(pdfW) ? pdfW : 0.0f;
 }
 
-// The reflected direction of a visible normal (nothing when it points below the surface).
 std::optional<Vec3> ggxReflectionDirection(const Lobe& lobe, const Vec3& wo, Vec2 u2) {
   if (!(std::fabs(wo.z) >= kMinCosTheta)) return std::nullopt;  // also NaN
   const float s = wo.z > 0.0f ? 1.0f : -1.0f;
@@ -54,8 +54,6 @@ std::optional<Vec3> ggxReflectionDirection(const Lobe& lobe, const Vec3& wo, Vec
   if (!(wiUp.z >= kMinCosTheta)) return std::nullopt;
   return Vec3(wiUp.x, wiUp.y, s * wiUp.z);
 }
-
-}  // namespace
 
 Spectrum roughConductorEval(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
   Vec3 woUp, wiUp, h;

@@ -105,6 +105,8 @@ Spectrum lobeEval(const Lobe& lobe, const Vec3& wo, const Vec3& wi, TransportMod
       return roughConductorEval(lobe, wo, wi);
     case LobeKind::RoughDielectric:
       return roughDielectricEval(lobe, wo, wi, mode);
+    case LobeKind::RoughThinDielectric:
+      return roughThinDielectricEval(lobe, wo, wi);
     case LobeKind::Sheen:
     case LobeKind::LambertianUnderSheen:
       return sheenLobeEval(lobe, wo, wi);
@@ -127,6 +129,8 @@ float lobePdf(const Lobe& lobe, const Vec3& wo, const Vec3& wi, TransportMode mo
       return roughConductorPdf(lobe, wo, wi);
     case LobeKind::RoughDielectric:
       return roughDielectricPdfForLane(lobe, wo, wi, 0);
+    case LobeKind::RoughThinDielectric:
+      return roughThinDielectricPdf(lobe, wo, wi);
     case LobeKind::Sheen:
     case LobeKind::LambertianUnderSheen:
       return sheenLobePdf(wo, wi);
@@ -163,6 +167,8 @@ std::optional<BsdfSample> lobeSample(const Lobe& lobe, const Vec3& wo, float uc,
       return roughDielectricSample(lobe, wo, uc, u2, mode);
     case LobeKind::ThinDielectric:
       return thinDielectricSample(lobe, wo, uc);
+    case LobeKind::RoughThinDielectric:
+      return roughThinDielectricSample(lobe, wo, uc, u2);
     case LobeKind::Sheen:
     case LobeKind::LambertianUnderSheen:
       return sheenLobeSample(lobe, wo, u2);

@@ -28,6 +28,21 @@ float ggxVisibleD(const Vec3& w, const Vec3& m, float alpha);
 // Samples m ~ D_w (m.z > 0; w below is treated as -w, so that w.m < 0 for it).
 Vec3 ggxSampleVisibleNormal(const Vec3& w, float alpha, Vec2 u);
 
+// ---- GGX reflection geometry shared by the reflection lobes (ggx_reflection.cpp).
+// The pair mirrored so that wo is on the upper side; false when not a usable reflection pair
+// (either cosine below kMinCosTheta, or wo and wi on opposite sides).
+bool upperReflectionPair(const Vec3& wo, const Vec3& wi, Vec3& woUp, Vec3& wiUp);
+// The unit half vector of an upper pair; false when the two directions are opposite.
+bool halfVector(const Vec3& woUp, const Vec3& wiUp, Vec3& h);
+// D G / (4 cos_o cos_i): the Fresnel-free part of the reflection BRDF.
+float ggxReflectionKernel(const Vec3& woUp, const Vec3& wiUp, const Vec3& h, float alpha);
+// Visible-normal sampling's density of the reflected direction, D_wo(h) / (4 wo.h) (0 if not finite).
+float ggxReflectionPairPdf(const Vec3& woUp, const Vec3& h, float alpha);
+float ggxReflectionPdf(const Lobe& lobe, const Vec3& wo, const Vec3& wi);
+// The reflection of wo about a visible normal drawn with u2, on wo's side (nothing when it
+// points below the surface).
+std::optional<Vec3> ggxReflectionDirection(const Lobe& lobe, const Vec3& wo, Vec2 u2);
+
 // ---- Lobe entry points (dispatched from lobes.cpp).
 Spectrum roughConductorEval(const Lobe& lobe, const Vec3& wo, const Vec3& wi);
 float roughConductorPdf(const Lobe& lobe, const Vec3& wo, const Vec3& wi);
@@ -42,6 +57,11 @@ std::optional<BsdfSample> roughDielectricSample(const Lobe& lobe, const Vec3& wo
 // R' = R + T^2 R / (1 - R^2) with R the single-interface Fresnel reflectance (pbrt-v4 9.5.1).
 float thinDielectricReflectance(float cosThetaO, float eta);
 std::optional<BsdfSample> thinDielectricSample(const Lobe& lobe, const Vec3& wo, float uc);
+// A rough thin wall: GGX reflection with the slab's R'(wo.h), and transmission as that
+// reflection mirrored through the surface plane with 1 - R' (thin_dielectric.cpp).
+Spectrum roughThinDielectricEval(const Lobe& lobe, const Vec3& wo, const Vec3& wi);
+float roughThinDielectricPdf(const Lobe& lobe, const Vec3& wo, const Vec3& wi);
+std::optional<BsdfSample> roughThinDielectricSample(const Lobe& lobe, const Vec3& wo, float uc, Vec2 u2);
 
 // GGX reflection of a dielectric interface only (the coat of a layer): f = w D G F / (4 cos cos),
 // sampled by visible normals (density D_wo(m) / (4 |wo.m|)); two-sided (wo below is mirrored).

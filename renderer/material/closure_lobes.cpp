@@ -194,10 +194,13 @@ struct Walker {
       case compiler::ClosureKind::ThinDielectric: {
         if (!bsdf) return;
         Lobe lobe;
-        lobe.kind = LobeKind::ThinDielectric;
+        const float roughness = roughnessOf(node);
+        lobe.kind = roughness > 0.0f ? LobeKind::RoughThinDielectric : LobeKind::ThinDielectric;
+        lobe.roughness = roughness;
         lobe.weight = weight;
+        // A thin slab does not bend light: a varying IOR changes each lane's R', never a
+        // direction (the lobes take every lane's own R' over the hero's event probability).
         iorLanes(node, lobe);
-        lobe.etaVaries = false;  // a thin slab does not bend light: no dispersion
         addLobe(lobe);
         return;
       }

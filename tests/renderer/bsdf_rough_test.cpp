@@ -29,8 +29,8 @@ constexpr float kEtas[] = {1.1f, 1.5f, 2.4f};
 // densities and the sampled normals' histogram agree, tests below).
 constexpr float kChiSquareEtas[] = {1.01f, 1.1f, 1.5f, 2.4f, 1.0f / 1.1f};
 // Conductor: 4 alphas x 4 wo; dielectric: 4 alphas x 5 etas x 3 wo; per-lane densities: 2;
-// visible normals: 2 alphas x 2 w.
-constexpr int kChiSquareRuns = 16 + 60 + 2 + 4;
+// visible normals: 2 alphas x 2 w; rough thin wall: 4 alphas x 3 wo.
+constexpr int kChiSquareRuns = 16 + 60 + 2 + 4 + 12;
 
 Spectrum lanes(std::initializer_list<float> values) {
   Spectrum s;
@@ -525,6 +525,160 @@ TEST(BsdfRough, ThinDielectricConservesEnergyAndPassesStraightThrough) {
   }
 }
 
+// ---------------------------------------------------------------- Rough thin dielectric
+
+Lobe roughThin(float alpha, const Spectrum& eta, bool etaVaries = false) {
+  Lobe l;
+  l.kind = LobeKind::RoughThinDielectric;
+  l.weight = uniform(1.0f);
+  l.a = eta;
+  l.etaVaries = etaVaries;
+  l.roughness = alpha;
+  return l;
+}
+
+TEST(BsdfRough, RoughThinDielectricSamplesFollowPdf) {
+  uint64_t seed = 500;
+  for (float alpha : kAlphas) {
+    const Lobe lobe = roughThin(alpha, uniform(1.5f));
+    for (const Vec3& wo : {fromAngles(0.3f, 0.5f), fromAngles(1.3f, 2.0f), fromAngles(2.5f, 1.0f)}) {
+      const auto r = chiSquareLobe(lobe, wo, conductorChiOptions(seed++, alpha));
+      EXPECT_TRUE(r.passed) << "alpha " << alpha << " wo.z " << wo.z << ": " << r.detail;
+    }
+  }
+}
+
+// Every facet splits what it reflects into R' (mirror) and 1 - R' (the mirror image through the
+// wall), so the wall's albedo is the GGX reflection's with F = 1, whatever the IOR: the same
+// sample weights as a conductor of reflectance 1, sample by sample. An independent quadrature
+// of eval over the whole sphere agrees, and the transmitted share is 1 - R' of the facets seen.
+TEST(BsdfRough, RoughThinDielectricSplitsTheGgxAlbedoBetweenMirrorAndWall) {
+  for (float alpha : kAlphas) {
+    for (float eta : {1.1f, 1.5f, 2.4f}) {
+      const Lobe lobe = roughThin(alpha, uniform(eta));
+      const Lobe mirror = roughConductor(alpha, uniform(0.2f), uniform(1e4f));  // F = 1 to 1e-7
+      for (float theta : {0.0f, 0.9f, 1.4f, 2.6f}) {
+        const Vec3 wo = fromAngles(theta, 0.3f);
+        sampling::Pcg32 rng(77, 3);
+        double thin = 0, conductor = 0, transmitted = 0;
+        const int n = 40000;
+        for (int i = 0; i < n; ++i) {
+          const float uc = rng.nextFloat();
+          const Vec2 u2(rng.nextFloat(), rng.nextFloat());
+          const auto s = lobeSample(lobe, wo, uc, u2, TransportMode::Radiance);
+          const auto c = lobeSample(mirror, wo, uc, u2, TransportMode::Radiance);
+          ASSERT_EQ(bool(s), bool(c));
+          if (!s) continue;
+          ASSERT_FALSE(s->specular);
+          ASSERT_EQ(s->transmission, wo.z * s->wi.z < 0.0f);
+          ASSERT_EQ(s->etaScale, 1.0f);
+          const Vec3 mirrored = s->transmission ? Vec3(s->wi.x, s->wi.y, -s->wi.z) : s->wi;
+          ASSERT_NEAR(glm::length(mirrored - c->wi), 0.0f, 1e-5f);
+          const double w = s->f[0] * std::fabs(s->wi.z) / s->pdfW;
+          const double wc = c->f[0] * std::fabs(c->wi.z) / c->pdfW;
+          ASSERT_NEAR(w, wc, 2e-4 * std::max(1.0, wc));
+          ASSERT_NEAR(s->f[0], lobeEval(lobe, wo, s->wi, TransportMode::Radiance)[0], 1e-4f * std::max(1.0f, s->f[0]));
+          thin += w;
+          conductor += wc;
+          transmitted += s->transmission;
+        }
+        thin /= n;
+        conductor /= n;
+        EXPECT_LE(thin, 1.0 + 1e-3);
+        EXPECT_NEAR(thin, conductor, 1e-3 * conductor) << alpha << " " << eta << " " << theta;
+        // The transmitted share: near normal incidence and small alpha, 1 - R'(cos_o).
+        if (alpha <= 0.05f && theta == 0.0f) {
+          const double smooth = 1.0 - thinDielectricReflectance(1.0f, eta);
+          EXPECT_NEAR(transmitted / n, smooth, 4 * std::sqrt(smooth * (1 - smooth) / n) + 2e-3) << eta;
+        }
+        // Independent: eval integrated over the sphere by uniform sampling.
+        sampling::Pcg32 q(78, 1);
+        double sum = 0, sumSquares = 0;
+        const int m = 400000;
+        if (alpha < 0.2f) continue;  // peaked lobes: uniform quadrature too noisy
+        for (int i = 0; i < m; ++i) {
+          const Vec3 wi = sampleUniformSphere(Vec2(q.nextFloat(), q.nextFloat()));
+          const double v = lobeEval(lobe, wo, wi, TransportMode::Radiance)[0] * std::fabs(wi.z) * 4.0 * M_PI;
+          sum += v;
+          sumSquares += v * v;
+        }
+        const double mean = sum / m, standardError = std::sqrt((sumSquares / m - mean * mean) / m);
+        EXPECT_NEAR(thin, mean, 5 * standardError + 3e-3) << alpha << " " << eta << " " << theta;
+      }
+    }
+  }
+}
+
+TEST(BsdfRough, RoughThinDielectricIsReciprocalAndTheSameInBothTransportModes) {
+  sampling::Pcg32 rng(79, 1);
+  for (float alpha : kAlphas) {
+    const Lobe lobe = roughThin(alpha, lanes({1.5f, 1.3f, 2.0f, 1.05f}), true);
+    int transmissions = 0;
+    for (int i = 0; i < 20000; ++i) {
+      const Vec3 a = sampleUniformSphere(Vec2(rng.nextFloat(), rng.nextFloat()));
+      const Vec3 b = sampleUniformSphere(Vec2(rng.nextFloat(), rng.nextFloat()));
+      const Spectrum fab = lobeEval(lobe, a, b, TransportMode::Radiance);
+      const Spectrum fba = lobeEval(lobe, b, a, TransportMode::Radiance);
+      const Spectrum iab = lobeEval(lobe, a, b, TransportMode::Importance);
+      for (int k = 0; k < 4; ++k) {
+        ASSERT_NEAR(fab[k], fba[k], 1e-4f * std::max(1.0f, fab[k]));
+        ASSERT_EQ(fab[k], iab[k]);  // the wall leaves into the medium it came from: no 1/eta^2
+      }
+      transmissions += !sameHemisphere(a, b) && fab[0] > 0.0f;
+    }
+    EXPECT_GT(transmissions, 1000) << alpha;
+  }
+}
+
+// A varying IOR changes each lane's R', not the direction: every lane carries the value of a
+// wall of its own IOR, the density is the hero's, and the Bsdf reports no dispersive density
+// (spectral MIS and the terminate mode must leave such a wall's lanes alone).
+TEST(BsdfRough, RoughThinDielectricLanesCarryTheirOwnFresnelWithoutDispersion) {
+  const float etas[4] = {1.5f, 1.3f, 2.0f, 1.05f};
+  const Lobe lobe = roughThin(0.3f, lanes({etas[0], etas[1], etas[2], etas[3]}), true);
+  sampling::Pcg32 rng(80, 1);
+  int transmissions = 0, reflections = 0;
+  for (int i = 0; i < 4000; ++i) {
+    const Vec3 wo = fromAngles(0.7f, 0.2f);
+    const auto s = lobeSample(lobe, wo, rng.nextFloat(), Vec2(rng.nextFloat(), rng.nextFloat()), TransportMode::Radiance);
+    if (!s) continue;
+    EXPECT_FALSE(s->dispersive);
+    EXPECT_FLOAT_EQ(s->pdfW, lobePdf(roughThin(0.3f, uniform(etas[0])), wo, s->wi, TransportMode::Radiance));
+    for (int k = 0; k < 4; ++k) {
+      const float own = lobeEval(roughThin(0.3f, uniform(etas[k])), wo, s->wi, TransportMode::Radiance)[0];
+      EXPECT_NEAR(s->f[k], own, 1e-5f * std::max(1.0f, own));
+    }
+    (s->transmission ? transmissions : reflections)++;
+  }
+  EXPECT_GT(transmissions, 2000);
+  EXPECT_GT(reflections, 100);
+  Bsdf bsdf;
+  ASSERT_TRUE(bsdf.add(lobe));
+  EXPECT_FALSE(bsdf.hasDispersiveDensity());
+}
+
+// As alpha goes to 0 the rough wall becomes the smooth slab: transmission straight through.
+// GGX's tail is long (a share alpha^2 / (alpha^2 + t^2) of the facets lean beyond tan = t):
+// at alpha 2e-3 about 1 % of the samples leave the 0.999 cone.
+TEST(BsdfRough, RoughThinDielectricTendsToTheSmoothSlab) {
+  const Lobe lobe = roughThin(2e-3f, uniform(1.5f));
+  sampling::Pcg32 rng(81, 1);
+  int samples = 0, near = 0, transmissions = 0;
+  for (int i = 0; i < 4000; ++i) {
+    const Vec3 wo = sampleUniformSphere(Vec2(rng.nextFloat(), rng.nextFloat()));
+    if (std::fabs(wo.z) < 0.1f) continue;
+    const auto s = lobeSample(lobe, wo, rng.nextFloat(), Vec2(rng.nextFloat(), rng.nextFloat()), TransportMode::Radiance);
+    if (!s) continue;
+    const Vec3 smooth = s->transmission ? -wo : Vec3(-wo.x, -wo.y, wo.z);
+    ++samples;
+    near += dot3(s->wi, smooth) > 0.999f;
+    transmissions += s->transmission;
+  }
+  EXPECT_GT(samples, 3000);
+  EXPECT_GT(near, 0.97 * samples);
+  EXPECT_GT(transmissions, 0.7 * samples);
+}
+
 // ---------------------------------------------------------------- Robustness
 
 TEST(BsdfRough, NoNaNForDegenerateInputs) {
@@ -540,6 +694,9 @@ TEST(BsdfRough, NoNaNForDegenerateInputs) {
     thin.weight = uniform(1);
     thin.a = lanes({1.5f, 0.0f, 1.0f, 1e4f});
     thin.etaVaries = true;
+    lobes.push_back(thin);
+    thin.kind = LobeKind::RoughThinDielectric;
+    thin.roughness = alpha;
     lobes.push_back(thin);
   }
   const float tiny = 1e-8f;

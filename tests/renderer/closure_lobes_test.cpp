@@ -52,9 +52,10 @@ TEST(ClosureLobes, EveryKindMapsToItsLobe) {
       "export fn shiny(h: Hit) -> Material = glossy(spectrum(0.9), 1000.0)\n"
       "export fn prism(h: Hit) -> Material = glossy_dielectric(cauchy(1.5, 8000.0), 4000.0)\n"
       "export fn plastic(h: Hit) -> Material = layer(dielectric(1.5), diffuse(spectrum(0.5)))\n"
-      "export fn scaled(h: Hit) -> Material = scale_material(add_material(diffuse(spectrum(0.5)), emission(spectrum(2.0))), 0.5)\n",
-      {"rough_glass", "flint", "rough_metal", "pane", "shiny", "prism", "plastic", "scaled"});
-  ASSERT_EQ(c.bindings.bindings.size(), 8u);
+      "export fn scaled(h: Hit) -> Material = scale_material(add_material(diffuse(spectrum(0.5)), emission(spectrum(2.0))), 0.5)\n"
+      "export fn frosted(h: Hit) -> Material = thin_dielectric(cauchy(1.5, 8000.0), roughness: 0.25)\n",
+      {"rough_glass", "flint", "rough_metal", "pane", "shiny", "prism", "plastic", "scaled", "frosted"});
+  ASSERT_EQ(c.bindings.bindings.size(), 9u);
   const auto& b = c.bindings.bindings;
 
   Shaded s = shade(b[0]);
@@ -79,6 +80,17 @@ TEST(ClosureLobes, EveryKindMapsToItsLobe) {
   s = shade(b[3]);
   ASSERT_EQ(s.bsdf.lobeCount(), 1);
   EXPECT_EQ(s.bsdf.lobe(0).kind, LobeKind::ThinDielectric);
+
+  // A rough wall of a varying IOR: its lanes keep their own IORs (each its own R'), and the
+  // Bsdf has no dispersive density (the wall bends nothing).
+  s = shade(b[8]);
+  ASSERT_TRUE(s.result.ok);
+  ASSERT_EQ(s.bsdf.lobeCount(), 1);
+  EXPECT_EQ(s.bsdf.lobe(0).kind, LobeKind::RoughThinDielectric);
+  EXPECT_FLOAT_EQ(s.bsdf.lobe(0).roughness, 0.25f);
+  EXPECT_TRUE(s.bsdf.lobe(0).etaVaries);
+  EXPECT_NE(s.bsdf.lobe(0).a.v[0], s.bsdf.lobe(0).a.v[1]);
+  EXPECT_FALSE(s.bsdf.hasDispersiveDensity());
 
   s = shade(b[4]);
   ASSERT_EQ(s.bsdf.lobeCount(), 1);
