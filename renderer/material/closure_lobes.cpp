@@ -264,8 +264,9 @@ struct Walker {
         coat.kind = roughness > 0.0f ? LobeKind::RoughDielectric : LobeKind::SmoothDielectric;
         coat.roughness = roughness;
         coat.weight = weight;
+        // The coat reflects, so its direction never depends on the IOR; a varying IOR still
+        // gives each lane its own Fresnel reflectance and transmittance (layer.cpp).
         iorLanes(coatNode, coat);
-        coat.etaVaries = false;  // the coat reflects: its direction does not depend on the IOR
         if (!bsdf->setCoat(coat)) {
           result.ok = false;
           return;

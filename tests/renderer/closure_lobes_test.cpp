@@ -118,6 +118,30 @@ TEST(ClosureLobes, EveryKindMapsToItsLobe) {
   EXPECT_TRUE(s.result.sawEmission);
 }
 
+// A coat of a wavelength-dependent IOR reflects each lane's own Fresnel reflectance (it had
+// reflected the hero's in every lane: a dispersive coat's colour blurred across the group).
+TEST(ClosureLobes, DispersiveCoatsReflectEachLanesOwnFresnel) {
+  const Compiled c = compileEntries(
+      "import std.spectra.{cauchy}\n"
+      "export fn coated(h: Hit) -> Material = layer(dielectric(cauchy(1.5, 40000.0)), diffuse(spectrum(0.5)))\n",
+      {"coated"});
+  ASSERT_EQ(c.bindings.bindings.size(), 1u);
+  Shaded s = shade(c.bindings.bindings[0]);
+  ASSERT_TRUE(s.result.ok);
+  ASSERT_TRUE(s.bsdf.hasCoat());
+  const Lobe& coat = s.bsdf.coat();
+  EXPECT_TRUE(coat.etaVaries);
+  const Vec3 wo = glm::normalize(Vec3(0.3f, 0.1f, 1.0f));
+  const auto sample = s.bsdf.sample(wo, 0.999f, Vec2(0.5f), TransportMode::Radiance);  // the coat comes last
+  ASSERT_TRUE(sample && sample->specular);
+  const float cosO = wo.z;
+  for (int k = 1; k < 4; ++k) {
+    ASSERT_NE(coat.a.v[k], coat.a.v[0]);
+    const float expected = fresnelDielectric(cosO, coat.a.v[k]) / fresnelDielectric(cosO, coat.a.v[0]);
+    EXPECT_NEAR(sample->f[k] / sample->f[0], expected, 1e-5f) << "lane " << k;
+  }
+}
+
 TEST(ClosureLobes, MixWeightsMultiplyDownTheTree) {
   const Compiled c = compileEntries(
       "export fn m(h: Hit) -> Material = mix_material(diffuse(spectrum(1.0)), mix_material(diffuse(spectrum(1.0)), "
