@@ -416,6 +416,21 @@ class Codegen {
     return b_.CreateIntrinsic(id, {args[0]->getType()}, args);
   }
 
+  // IEEE 754-2019 minimumNumber / maximumNumber, as the interpreter (docs/language.md section
+  // 5): minnum / maxnum avoid NaN but may return either zero when the operands compare equal
+  // (constant folding and minss differ); for equal operands OR-ing (min) or AND-ing (max) the
+  // bits picks -0 < +0 and leaves equal non-zero values unchanged.
+  llvm::Value* genMinMaxNumber(bool isMin, llvm::Value* x, llvm::Value* y) {
+    llvm::Value* r = intrinsic(isMin ? llvm::Intrinsic::minnum : llvm::Intrinsic::maxnum, {x, y});
+    llvm::Type* t = x->getType();
+    llvm::Type* bitsType = t->isVectorTy() ? llvm::VectorType::get(i32_, llvm::cast<llvm::VectorType>(t)->getElementCount())
+                                           : static_cast<llvm::Type*>(i32_);
+    llvm::Value* xb = b_.CreateBitCast(x, bitsType);
+    llvm::Value* yb = b_.CreateBitCast(y, bitsType);
+    llvm::Value* merged = b_.CreateBitCast(isMin ? b_.CreateOr(xb, yb) : b_.CreateAnd(xb, yb), t);
+    return b_.CreateSelect(b_.CreateFCmpOEQ(x, y), merged, r);
+  }
+
   // Calls a float libm function lane by lane (for functions without an LLVM intrinsic).
   llvm::Value* libmLanes(const char* name, std::vector<llvm::Value*> args) {
     std::vector<llvm::Type*> params(args.size(), f32_);
@@ -533,8 +548,8 @@ class Codegen {
       case Prim::FDiv: return b_.CreateFDiv(a[0], a[1]);
       case Prim::FRem: return b_.CreateFRem(a[0], a[1]);
       case Prim::FNeg: return b_.CreateFNeg(a[0]);
-      case Prim::FMin: return intrinsic(ID(llvm::Intrinsic::minnum), a);
-      case Prim::FMax: return intrinsic(ID(llvm::Intrinsic::maxnum), a);
+      case Prim::FMin: return genMinMaxNumber(true, a[0], a[1]);
+      case Prim::FMax: return genMinMaxNumber(false, a[0], a[1]);
       case Prim::FAbs: return intrinsic(ID(llvm::Intrinsic::fabs), a);
       case Prim::FSign: {
         llvm::Value* x = a[0];

@@ -158,8 +158,14 @@ Node* Builder::builtinCall(const std::string& name, std::vector<TypedArg> args, 
   }
   if (name == "fract") {
     if (!arity(1) || !isNumeric(0)) return noOverload("one Float, vector, Color or Spectrum");
+    // x - floor(x), kept below 1: for tiny negative x the subtraction rounds up to exactly 1
+    // (fract(-1e-9) would be 1.0), outside the [0, 1) every user of fract counts on. Branch-free
+    // and lane-wise: min(r, 1 - 2^-24) + (r - r), where r - r is 0 for finite r and NaN for
+    // NaN or inf (min alone would turn a NaN into 1 - 2^-24).
     Node* x = bindOnce(toFloat(args[0].node, callSpan), lets);
-    return wrapLets(lets, prim(Prim::FSub, x->type, {x, prim(Prim::FFloor, x->type, {x}, callSpan)}, callSpan));
+    Node* r = bindOnce(prim(Prim::FSub, x->type, {x, prim(Prim::FFloor, x->type, {x}, callSpan)}, callSpan), lets);
+    Node* belowOne = splatTo(constFloat(0x1.fffffep-1f, callSpan), x->type, callSpan);
+    return wrapLets(lets, prim(Prim::FAdd, x->type, {prim(Prim::FMin, x->type, {r, belowOne}, callSpan), prim(Prim::FSub, x->type, {r, r}, callSpan)}, callSpan));
   }
   if (name == "min" || name == "max" || name == "pow" || name == "atan2" || name == "mod") {
     if (!arity(2) || !isNumeric(0) || !isNumeric(1)) return noOverload("two numeric arguments");
@@ -236,18 +242,51 @@ Node* Builder::builtinCall(const std::string& name, std::vector<TypedArg> args, 
     return wrapLets(lets, prim(Prim::FMul, ty, {prim(Prim::FMul, ty, {t, t}, callSpan), poly}, callSpan));
   }
   auto isVectorLike = [&](size_t i) { return args[i].node->type->isVector() || kind(i) == TypeKind::Color; };
+  // |v| without overflow or underflow: sqrt(v.v) when v.v is a normal float (almost always),
+  // else (v.v overflowed, or is subnormal or 0) m |v / m| with m the largest |component|, as
+  // hypot does; so length(vec3(1e20, 0, 0)) is 1e20, not inf, and normalize of tiny or huge
+  // vectors is unit length. Zero, inf and NaN components still give 0, inf and NaN.
+  auto safeLength = [&](Node* v) -> Node* {
+    const Type* f = types.floating();
+    Node* d = bindOnce(prim(Prim::Dot, f, {v, v}, callSpan), lets);
+    Node* normal = program.node(Node::Kind::And, types.boolean(), callSpan);
+    normal->args = {prim(Prim::FGe, types.boolean(), {d, constFloat(1.17549435e-38f, callSpan)}, callSpan),
+                    prim(Prim::FLt, types.boolean(), {d, constFloat(std::numeric_limits<float>::infinity(), callSpan)}, callSpan)};
+    const int lanes = v->type->fixedLanes();
+    Node* largest = nullptr;
+    for (int i = 0; i < lanes; ++i) {
+      Node* c = prim(Prim::Swizzle, f, {v}, callSpan);
+      c->lanes = {uint8_t(i)};
+      c = prim(Prim::FAbs, f, {c}, callSpan);
+      largest = largest ? prim(Prim::FMax, f, {largest, c}, callSpan) : c;
+    }
+    // Inside the rare branch: m once, then m sqrt((v / m).(v / m)) when 0 < m < inf.
+    std::vector<std::pair<int, Node*>> mLets, wLets;
+    Node* m = bindOnce(largest, mLets);
+    Node* wRef = bindOnce(prim(Prim::FDiv, v->type, {v, splatTo(m, v->type, callSpan)}, callSpan), wLets);
+    Node* scaledLength = prim(Prim::FMul, f, {m, prim(Prim::FSqrt, f, {prim(Prim::Dot, f, {wRef, wRef}, callSpan)}, callSpan)}, callSpan);
+    Node* usable = program.node(Node::Kind::And, types.boolean(), callSpan);
+    usable->args = {prim(Prim::FGt, types.boolean(), {m, constFloat(0, callSpan)}, callSpan),
+                    prim(Prim::FLt, types.boolean(), {m, constFloat(std::numeric_limits<float>::infinity(), callSpan)}, callSpan)};
+    Node* plain = prim(Prim::FSqrt, f, {d}, callSpan);
+    Node* scaled = program.node(Node::Kind::If, f, callSpan);
+    scaled->args = {usable, wrapLets(wLets, scaledLength), prim(Prim::FSqrt, f, {d}, callSpan)};
+    Node* n = program.node(Node::Kind::If, f, callSpan);
+    n->args = {normal, plain, wrapLets(mLets, scaled)};
+    return n;
+  };
   if (name == "dot" || name == "distance") {
     if (!arity(2) || !isVectorLike(0) || args[0].node->type != args[1].node->type) return noOverload("two vectors of one type");
     Node* a = args[0].node;
     Node* b = args[1].node;
     if (name == "dot") return prim(Prim::Dot, types.floating(), {a, b}, callSpan);
     Node* d = bindOnce(prim(Prim::FSub, a->type, {a, b}, callSpan), lets);
-    return wrapLets(lets, prim(Prim::FSqrt, types.floating(), {prim(Prim::Dot, types.floating(), {d, d}, callSpan)}, callSpan));
+    return wrapLets(lets, safeLength(d));
   }
   if (name == "length" || name == "normalize") {
     if (!arity(1) || !isVectorLike(0)) return noOverload("a vector");
     Node* v = bindOnce(args[0].node, lets);
-    Node* len = prim(Prim::FSqrt, types.floating(), {prim(Prim::Dot, types.floating(), {v, v}, callSpan)}, callSpan);
+    Node* len = safeLength(v);
     if (name == "length") return wrapLets(lets, len);
     len = bindOnce(len, lets);
     Node* positive = prim(Prim::FGt, types.boolean(), {len, constFloat(0, callSpan)}, callSpan);

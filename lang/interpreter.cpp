@@ -2,6 +2,7 @@
 
 #include "lang/rgb_upsampling.h"
 
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -139,6 +140,19 @@ class Interpreter {
     return Value::ofBool(f(x.f[0], y.f[0]));
   }
 
+  // IEEE 754-2019 minimumNumber / maximumNumber (docs/language.md section 5): fminf / fmaxf,
+  // which may return either zero when the operands compare equal, with -0 < +0. For equal
+  // operands OR-ing (min) or AND-ing (max) their bits picks the signed zero and leaves equal
+  // non-zero values as they are; the JIT does the same (compiler/codegen.cpp).
+  static float minimumNumber(float a, float b) {
+    if (a == b) return std::bit_cast<float>(std::bit_cast<uint32_t>(a) | std::bit_cast<uint32_t>(b));
+    return std::fmin(a, b);
+  }
+  static float maximumNumber(float a, float b) {
+    if (a == b) return std::bit_cast<float>(std::bit_cast<uint32_t>(a) & std::bit_cast<uint32_t>(b));
+    return std::fmax(a, b);
+  }
+
   Value evalPrim(const Node* n, std::vector<Value>& slots) {
     switch (n->prim) {
       case Prim::FAdd: return zipLanes(n, slots, [](float a, float b) { return a + b; });
@@ -146,8 +160,8 @@ class Interpreter {
       case Prim::FMul: return zipLanes(n, slots, [](float a, float b) { return a * b; });
       case Prim::FDiv: return zipLanes(n, slots, [](float a, float b) { return a / b; });
       case Prim::FRem: return zipLanes(n, slots, [](float a, float b) { return std::fmod(a, b); });
-      case Prim::FMin: return zipLanes(n, slots, [](float a, float b) { return std::fmin(a, b); });
-      case Prim::FMax: return zipLanes(n, slots, [](float a, float b) { return std::fmax(a, b); });
+      case Prim::FMin: return zipLanes(n, slots, [](float a, float b) { return minimumNumber(a, b); });
+      case Prim::FMax: return zipLanes(n, slots, [](float a, float b) { return maximumNumber(a, b); });
       case Prim::FPow: return zipLanes(n, slots, [](float a, float b) { return std::pow(a, b); });
       case Prim::FAtan2: return zipLanes(n, slots, [](float a, float b) { return std::atan2(a, b); });
       case Prim::FStep: return zipLanes(n, slots, [](float edge, float x) { return x < edge ? 0.0f : 1.0f; });

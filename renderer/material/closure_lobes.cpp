@@ -98,11 +98,20 @@ struct Walker {
     lobe.etaVaries = (node.flags & compiler::kClosureVariesWithWavelength) != 0 && differs;
   }
 
-  // GGX roughness from the language (clamped: negative or NaN means smooth, above 1 is 1).
-  // Below alpha 1e-3 a GGX lobe is a mirror for every practical purpose (and its density
-  // would be a spike): treat it as the smooth lobe.
-  static float roughnessOf(const compiler::ClosureNode& node) {
+  // A node's scalar (roughness, exponent): NaN or infinite is a failed evaluation, counted
+  // like a non-finite colour (a NaN roughness had rendered as the smooth lobe, a NaN glossy
+  // exponent black, both uncounted).
+  float scalarOf(const compiler::ClosureNode& node) const {
     const float r = node.scalars[0];
+    nonFiniteParam = nonFiniteParam || !std::isfinite(r);
+    return r;
+  }
+
+  // GGX roughness from the language (clamped: negative means smooth, above 1 is 1; documented
+  // in docs/language.md). Below alpha 1e-3 a GGX lobe is a mirror for every practical purpose
+  // (and its density would be a spike): treat it as the smooth lobe.
+  float roughnessOf(const compiler::ClosureNode& node) const {
+    const float r = scalarOf(node);
     return r >= 1e-3f ? std::min(r, 1.0f) : 0.0f;
   }
 
@@ -110,8 +119,8 @@ struct Walker {
   Spectrum sheenReflectance(const compiler::ClosureNode& node) const {
     return clampZero(param(node, ParamUse::Reflectance));
   }
-  static float sheenRoughnessOf(const compiler::ClosureNode& node) {
-    return float(sheen::clampRoughness(node.scalars[0]));
+  float sheenRoughnessOf(const compiler::ClosureNode& node) const {
+    return float(sheen::clampRoughness(scalarOf(node)));
   }
 
   // Under a sheen coat only Lambertian bases are scaled (sheen_lobe.h); trees of them through
@@ -208,7 +217,7 @@ struct Walker {
         if (!bsdf) return;
         Lobe lobe;
         lobe.kind = LobeKind::GlossyReflection;
-        lobe.exponent = std::max(node.scalars[0], 0.0f);
+        lobe.exponent = std::max(scalarOf(node), 0.0f);
         lobe.weight = weight * clampZero(param(node, ParamUse::Reflectance));
         addLobe(lobe);
         return;
@@ -217,7 +226,7 @@ struct Walker {
         if (!bsdf) return;
         Lobe lobe;
         lobe.kind = LobeKind::GlossyDielectric;
-        lobe.exponent = std::max(node.scalars[0], 0.0f);
+        lobe.exponent = std::max(scalarOf(node), 0.0f);
         lobe.weight = weight;
         iorLanes(node, lobe);
         addLobe(lobe);
@@ -259,7 +268,7 @@ struct Walker {
         // sqrt(2 / (n + 2)), the usual Phong-to-Beckmann/GGX correspondence): the layering's
         // energy bookkeeping is written for the GGX interface (docs/layering.md).
         const float roughness = coatNode.kind == compiler::ClosureKind::GlossyDielectric
-                                    ? std::sqrt(2.0f / (std::max(coatNode.scalars[0], 0.0f) + 2.0f))
+                                    ? std::sqrt(2.0f / (std::max(scalarOf(coatNode), 0.0f) + 2.0f))
                                     : roughnessOf(coatNode);
         coat.kind = roughness > 0.0f ? LobeKind::RoughDielectric : LobeKind::SmoothDielectric;
         coat.roughness = roughness;

@@ -200,11 +200,21 @@ TEST(ClosureLobes, NonFiniteColoursAndMixWeightsFail) {
       "export fn inf_albedo(h: Hit) -> Material = diffuse(rgb(1.0 / 0.0, 0.5, 0.5))\n"
       "export fn nan_mix(h: Hit) -> Material = mix_material(diffuse(spectrum(0.5)), diffuse(spectrum(0.2)), 0.0 / 0.0)\n"
       "export fn nan_emission(h: Hit) -> Material = emission(rgb(0.0 / 0.0, 1.0, 1.0))\n"
+      // Scalars too: a NaN roughness rendered as the smooth lobe and a NaN glossy exponent black,
+      // both uncounted.
+      "export fn nan_rough_metal(h: Hit) -> Material = conductor(0.2, 3.0, 0.0 / 0.0)\n"
+      "export fn nan_rough_glass(h: Hit) -> Material = dielectric(1.5, 0.0 / 0.0)\n"
+      "export fn nan_rough_coat(h: Hit) -> Material = layer(dielectric(1.5, 0.0 / 0.0), diffuse(spectrum(0.5)))\n"
+      "export fn nan_glossy(h: Hit) -> Material = glossy(1.0, 0.0 / 0.0)\n"
+      "export fn inf_glossy_dielectric(h: Hit) -> Material = glossy_dielectric(1.5, 1.0 / 0.0)\n"
+      "export fn nan_sheen(h: Hit) -> Material = sheen(rgb(0.5, 0.5, 0.5), 0.0 / 0.0)\n"
+      "export fn nan_thin(h: Hit) -> Material = thin_dielectric(1.5, 0.0 / 0.0)\n"
       "export fn fine(h: Hit) -> Material = mix_material(diffuse(rgb(0.5, 0.4, 0.3)), emission(rgb(1.0, 2.0, 3.0)), 0.5)\n",
-      {"nan_albedo", "inf_albedo", "nan_mix", "nan_emission", "fine"});
-  ASSERT_EQ(c.bindings.bindings.size(), 5u);
-  for (int i = 0; i < 4; ++i) EXPECT_FALSE(shade(c.bindings.bindings[size_t(i)]).result.ok) << i;
-  EXPECT_TRUE(shade(c.bindings.bindings[4]).result.ok);
+      {"nan_albedo", "inf_albedo", "nan_mix", "nan_emission", "nan_rough_metal", "nan_rough_glass", "nan_rough_coat",
+       "nan_glossy", "inf_glossy_dielectric", "nan_sheen", "nan_thin", "fine"});
+  ASSERT_EQ(c.bindings.bindings.size(), 12u);
+  for (int i = 0; i < 11; ++i) EXPECT_FALSE(shade(c.bindings.bindings[size_t(i)]).result.ok) << i;
+  EXPECT_TRUE(shade(c.bindings.bindings[11]).result.ok);
 }
 
 }  // namespace
