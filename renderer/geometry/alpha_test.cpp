@@ -35,6 +35,13 @@ bool AlphaTest::opaque(uint32_t triangle, float b1, float b2, uint32_t rayHash) 
   return float(rayHash >> 8) * (1.0f / 16777216.0f) < a;
 }
 
+float AlphaTest::coverage(uint32_t triangle, float b1, float b2) const {
+  const float a = alpha(triangle, b1, b2);
+  if (material_.alphaMode == GltfMaterial::AlphaMode::Mask) return a >= material_.alphaCutoff ? 1.0f : 0.0f;
+  if (!(a < 1.0f)) return 1.0f;
+  return a > 0.0f ? a : 0.0f;
+}
+
 void AlphaTest::embreeFilter(const RTCFilterFunctionNArguments* args) {
   const auto* test = static_cast<const AlphaTest*>(args->geometryUserPtr);
   for (unsigned i = 0; i < args->N; ++i) {

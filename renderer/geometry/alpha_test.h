@@ -20,6 +20,9 @@ class AlphaTest {
   float alpha(uint32_t triangle, float b1, float b2) const;
   // Whether a ray hitting there stops (rayHash picks BLEND's random choice).
   bool opaque(uint32_t triangle, float b1, float b2, uint32_t rayHash) const;
+  // The probability that it stops: MASK 1 or 0, BLEND alpha clamped to [0, 1] (what light
+  // sampling multiplies an emitter's radiance by, so that it agrees with rays).
+  float coverage(uint32_t triangle, float b1, float b2) const;
 
   static void embreeFilter(const RTCFilterFunctionNArguments* args);
 

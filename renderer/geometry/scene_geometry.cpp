@@ -337,6 +337,19 @@ bool SceneGeometry::occluded(const Ray& ray) const {
   return r.tfar < 0.0f;  // Embree sets tfar to -inf on a hit
 }
 
+bool SceneGeometry::cutOut(int instance) const {
+  const SceneDescription& scene = *impl_->scene;
+  if (instance < 0 || size_t(instance) >= scene.instances.size()) return false;
+  return impl_->needsAlphaTest(scene.instances[size_t(instance)].primitive);
+}
+
+float SceneGeometry::coverage(int instance, uint32_t triangle, float b1, float b2) const {
+  if (!cutOut(instance)) return 1.0f;
+  const SceneDescription& scene = *impl_->scene;
+  const MeshPrimitive& prim = scene.primitives[size_t(scene.instances[size_t(instance)].primitive)];
+  return AlphaTest(scene, prim, scene.materials[size_t(prim.material)]).coverage(triangle, b1, b2);
+}
+
 bool SceneGeometry::hasInstance(int instance) const {
   return instance >= 0 && size_t(instance) < impl_->instances.size() && impl_->instances[size_t(instance)].valid;
 }

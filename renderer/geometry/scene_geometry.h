@@ -80,6 +80,13 @@ class SceneGeometry {
     fillHit(instance, triangle, b1, b2, hit);
   }
 
+  // Alpha (glTF alphaMode) as light sampling must see it, the expectation of what rays see:
+  // whether the instance's primitive is cut out or blended at all, and its coverage at a point:
+  // MASK 1 or 0 (alpha against alphaCutoff), BLEND alpha (rays stop there with probability
+  // alpha), 1 for opaque materials.
+  bool cutOut(int instance) const;
+  float coverage(int instance, uint32_t triangle, float b1, float b2) const;
+
   struct Impl;
 
  private:

@@ -15,7 +15,20 @@ struct RenderScene::Emission final : EmissionSource {
   const SceneGeometry* geometry = nullptr;
   int material = -1;
   bool readsHit_ = false;  // the material's emission may depend on its Hit
+  bool cutOut_ = false;    // some emitter of it has a glTF alphaMode: light samples see its coverage
   Spectrum radiance(const EmitterPoint& point, const Wavelengths& lambda) const override {
+    // Rays pass through cut-out parts (MASK) and through blended ones with probability
+    // 1 - alpha (BLEND), so the emission they find is coverage x radiance on average; light
+    // samples, which do not trace to the emitter, multiply by it (they lit the scene through
+    // the cut-outs: a fully cut-out lamp still gave 0.037 of its light).
+    if (cutOut_ && point.instance >= 0) {
+      const float coverage = geometry->coverage(point.instance, point.triangle, point.b12.x, point.b12.y);
+      if (!(coverage > 0.0f)) return Spectrum();
+      return coverage < 1.0f ? uncovered(point, lambda) * coverage : uncovered(point, lambda);
+    }
+    return uncovered(point, lambda);
+  }
+  Spectrum uncovered(const EmitterPoint& point, const Wavelengths& lambda) const {
     // A light sample's emission must be the one a ray hitting the same point sees (the path
     // tracer weighs the two by MIS): for materials that read their Hit, the whole shading
     // point (interpolated normal, both uv sets, tangent...) as a hit would give it.
@@ -31,9 +44,9 @@ struct RenderScene::Emission final : EmissionSource {
     return materials->emission(material, sp, lambda);
   }
   float averageRadiance() const override { return materials->averageEmission(material); }
-  bool readsHit() const override { return readsHit_; }
+  bool readsHit() const override { return readsHit_ || cutOut_; }
   float radianceEstimate(const EmitterPoint& point) const override {
-    if (!readsHit_) return averageRadiance();
+    if (!readsHit()) return averageRadiance();
     // The wavelength group MaterialSystem probes materials with, for a deterministic estimate.
     const Wavelengths& probe = materials->probeWavelengths();
     return radiance(point, probe).average(probe.count);
@@ -144,6 +157,14 @@ std::unique_ptr<RenderScene> RenderScene::build(const SceneDescription& scene, c
     return emissionOfMaterial[slot];
   };
   const int instanceCount = int(scene.instances.size());
+  // Whether each emissive material has a cut-out emitter, before any light asks readsHit().
+  for (int i = 0; i < instanceCount; ++i) {
+    if (!rs->geometry_->hasInstance(i) || !rs->geometry_->cutOut(i)) continue;
+    const int material = rs->materials_->materialOfPrimitive(scene.instances[size_t(i)].primitive);
+    if (!rs->materials_->isEmissive(material)) continue;
+    emissionFor(material);
+    emissionOfMaterial[material]->cutOut_ = true;
+  }
   rs->areaLightBase_.assign(size_t(instanceCount), -1);
   for (int i = 0; i < instanceCount; ++i) {
     if (!rs->geometry_->hasInstance(i)) continue;

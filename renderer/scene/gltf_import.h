@@ -26,6 +26,21 @@ struct GltfImport {
   std::vector<int> sceneImage;     // glTF image -> scene image, -1 when it has no pixels
   int materialOffset = 0;          // glTF material m -> scene material m + materialOffset
   std::set<std::string> warnedOnce;
+  int defaultMaterial = -1;        // the spec's default material, added on first need (last: the
+                                   // loader brace-initialises the members above)
+
+  // glTF 2.0 section 3.9.6: a primitive without a material (or, after a warning, with one that
+  // does not exist) has "a material with no properties specified": base colour 1, metallic 1,
+  // roughness 1 (a rough white metal that COLOR_0 tints), as GltfMaterial's defaults are.
+  int defaultMaterialIndex() {
+    if (defaultMaterial < 0) {
+      GltfMaterial m;
+      m.name = "(glTF default material)";
+      defaultMaterial = int(scene.materials.size());
+      scene.materials.push_back(m);
+    }
+    return defaultMaterial;
+  }
 
   void warn(const std::string& message) { scene.warnings.push_back(file + ": " + message); }
   void warnOnce(const std::string& key, const std::string& message) {

@@ -187,9 +187,12 @@ class Importer {
       return fail(where + " has " + std::to_string(indices.size()) + " indices, not a multiple of 3"), false;
     out.indices = std::move(indices);
 
-    if (prim.material >= 0) {
-      if (size_t(prim.material) < model_.materials.size()) out.material = prim.material + in_.materialOffset;
-      else in_.warn(where + " uses material " + std::to_string(prim.material) + ", which does not exist; using the default");
+    if (prim.material >= 0 && size_t(prim.material) < model_.materials.size()) {
+      out.material = prim.material + in_.materialOffset;
+    } else {
+      if (prim.material >= 0)
+        in_.warn(where + " uses material " + std::to_string(prim.material) + ", which does not exist; using the default");
+      out.material = in_.defaultMaterialIndex();
     }
     // Normal maps need a tangent frame: generated per vertex when the file has none.
     if (out.tangents.empty() && !out.normals.empty() && out.material >= 0 &&

@@ -782,6 +782,31 @@ TEST_F(GltfMutated, NonIndexedAndStripPrimitives) {
   EXPECT_TRUE(anyContains(scene->warnings, "mode 1"));
 }
 
+// glTF 2.0 section 3.9.6: a primitive without a material, or (after a warning) with one that does
+// not exist, has "a material with no properties specified": base colour 1, metallic 1,
+// roughness 1, one such material per file. It had been a grey 0.8 Lambertian that also
+// ignored COLOR_0.
+TEST_F(GltfMutated, PrimitivesWithoutAMaterialGetTheSpecsDefaultMaterial) {
+  for (const bool outOfRange : {false, true}) {
+    json doc = base_;
+    if (outOfRange) doc["meshes"][0]["primitives"][0]["material"] = 7;
+    else doc["meshes"][0]["primitives"][0].erase("material");
+    std::vector<std::string> errors;
+    auto scene = loadGltf(write("nomaterial.gltf", doc.dump()), errors);
+    ASSERT_TRUE(scene) << errors[0];
+    const int m = scene->primitives[0].material;
+    ASSERT_GE(m, 0);
+    ASSERT_LT(size_t(m), scene->materials.size());
+    const GltfMaterial& d = scene->materials[size_t(m)];
+    EXPECT_EQ(d.baseColorFactor, Vec4(1.0f));
+    EXPECT_EQ(d.metallicFactor, 1.0f);
+    EXPECT_EQ(d.roughnessFactor, 1.0f);
+    EXPECT_EQ(d.emissiveFactor, Vec3(0.0f));
+    EXPECT_EQ(d.alphaMode, GltfMaterial::AlphaMode::Opaque);
+    EXPECT_EQ(anyContains(scene->warnings, "does not exist"), outOfRange);
+  }
+}
+
 TEST_F(GltfMutated, MaterialExtensionsAndTextureTransforms) {
   json doc = base_;
   json& m = doc["materials"][0];

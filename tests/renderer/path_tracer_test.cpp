@@ -555,6 +555,64 @@ TEST(PathTracer, HitDependentEmittersLookTheSameToLightSamplesAndToRays) {
   }
 }
 
+// glTF emitters with an alphaMode light the scene as much through light samples as through rays:
+// rays pass cut-out parts (MASK) and blended ones with probability 1 - alpha (BLEND), and
+// light samples now multiply by that coverage (they lit the floor through the cut-outs: a
+// fully cut-out lamp still gave 0.037 of its 0.048, a BLEND lamp of alpha 0.3 0.84 of it).
+TEST(PathTracer, CutOutAndBlendedEmittersLightAlikeThroughLightSamplesAndRays) {
+  struct Case {
+    GltfMaterial::AlphaMode mode;
+    float alpha;
+    float expectedShare;  // of the opaque lamp's light
+  };
+  double opaque = 0.0;
+  for (const Case c : {Case{GltfMaterial::AlphaMode::Opaque, 1.0f, 1.0f}, Case{GltfMaterial::AlphaMode::Mask, 0.2f, 0.0f},
+                       Case{GltfMaterial::AlphaMode::Blend, 0.3f, 0.3f}}) {
+    SceneDescription scene;
+    MeshPrimitive floor = makeQuad(Vec3(-1.0f, -1.0f, 0.0f), Vec3(2.0f, 0.0f, 0.0f), Vec3(0.0f, 2.0f, 0.0f));
+    floor.material = 0;
+    MeshPrimitive lamp = makeQuad(Vec3(-0.5f, -0.5f, 1.0f), Vec3(0.0f, 1.0f, 0.0f), Vec3(1.0f, 0.0f, 0.0f));  // faces -z
+    lamp.material = 1;
+    scene.primitives = {floor, lamp};
+    scene.instances = {MeshInstance{0, Mat4(1.0f), "floor"}, MeshInstance{1, Mat4(1.0f), "lamp"}};
+    GltfMaterial floorMaterial, lampMaterial;
+    floorMaterial.name = "floor";
+    floorMaterial.baseColorFactor = Vec4(0.8f, 0.8f, 0.8f, 1.0f);
+    floorMaterial.metallicFactor = 0.0f;
+    floorMaterial.roughnessFactor = 1.0f;
+    lampMaterial.name = "lamp";
+    lampMaterial.baseColorFactor = Vec4(0.0f, 0.0f, 0.0f, c.alpha);
+    lampMaterial.metallicFactor = 0.0f;
+    lampMaterial.emissiveFactor = Vec3(1.0f);
+    lampMaterial.alphaMode = c.mode;
+    scene.materials = {floorMaterial, lampMaterial};
+    CameraDesc camera = test::cameraLookingDownZ(Vec3(0.0f, 0.0f, 0.5f), 0.5f);
+    camera.orthoHalfHeight = 0.8f;
+    scene.cameras.push_back(camera);
+    const std::unique_ptr<RenderScene> rs = buildSquare(scene, 8);
+    ASSERT_TRUE(rs);
+    Estimate withLightSamples, raysOnly;
+    for (bool nee : {true, false}) {
+      FilmOptions f;
+      f.width = f.height = 8;
+      f.filter = FilterKind::Box;
+      f.settings.maxDepth = 1;
+      f.settings.nextEventEstimation = nee;
+      const DevelopedImage img = renderFilm(*rs, 2, 8 * 8 * 4096, f).develop();
+      (nee ? withLightSamples : raysOnly) = channelMean(img, 1);
+    }
+    const double se = std::hypot(withLightSamples.standardError, raysOnly.standardError);
+    EXPECT_NEAR(withLightSamples.mean, raysOnly.mean, 4 * se + 1e-3 * raysOnly.mean) << int(c.mode);
+    if (c.mode == GltfMaterial::AlphaMode::Opaque) {
+      opaque = withLightSamples.mean;
+      EXPECT_GT(opaque, 0.01);  // the floor is lit
+    } else {
+      EXPECT_NEAR(withLightSamples.mean, c.expectedShare * opaque, 4 * withLightSamples.standardError + 2e-3 * opaque)
+          << int(c.mode);
+    }
+  }
+}
+
 // Light selection by power sees where a Hit-dependent emitter is bright: each triangle's power
 // comes from its own radiance (plus a tenth of the material's average, so that none is left
 // out). Here the emission grows with u, and the quad's two triangles cover u on average 1/3 and
