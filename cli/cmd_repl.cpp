@@ -1,8 +1,13 @@
 // `tex repl`: an interactive evaluator. Line editing and history through libedit when stdin
 // is a terminal; plain line reading (no prompts) when it is piped.
 #include <editline/readline.h>
+#include <fcntl.h>
+#include <poll.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cerrno>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
@@ -16,6 +21,7 @@
 #include "compiler/jit.h"
 #include "compiler/value_layout.h"
 #include "lang/interpreter.h"
+#include "lang/lexer.h"
 #include "lang/parser.h"
 #include "lang/session.h"
 
@@ -25,19 +31,79 @@ namespace {
 const char* kHelp =
     "usage: tex repl [-I DIR]... [--interp]\n\n"
     "Reads definitions (fn, let, type, import) and expressions; prints each expression's value\n"
-    "and type. Input continues on the next line while brackets are open or an expression is\n"
-    "unfinished. Works with piped input: `echo '1 + 2' | tex repl` prints `3 : Int`.\n"
-    "Expressions are compiled by the LLVM JIT in quick mode; --interp uses the interpreter.\n\n"
+    "and type. Input continues on the next line while brackets are open, a block comment is\n"
+    "open or an expression is unfinished; an empty line, or a lexical error such as a stray\n"
+    "character, ends it. Ctrl-C abandons an unfinished input. Works with piped input:\n"
+    "`echo '1 + 2' | tex repl` prints `3 : Int`.\n"
+    "Expressions are compiled by the LLVM JIT in quick mode; --interp uses the interpreter.\n"
+    "An input, :load or import with an error is undone: it defines and loads nothing, and\n"
+    "trying it again reports the same errors.\n\n"
     "Commands:\n"
     "  :type EXPR       show the type of EXPR without evaluating it\n"
     "  :ir EXPR         show the typed core IR of EXPR\n"
     "  :load FILE       load a .tex module; its definitions become available\n"
-    "  :reload          reload every loaded file and replay the session's definitions\n"
+    "  :reload          reload every loaded file and replay the session's definitions; a file\n"
+    "                   or definition that fails stays on the list for the next :reload\n"
     "  :hit [uv=U,V] [p=X,Y,Z] [n=X,Y,Z] [lambda=L1,L2,...]\n"
     "                   set the shading context; `hit` in expressions is that Hit and\n"
-    "                   Spectrum values are evaluated at the lambda list (1 to 8 nm values)\n"
+    "                   Spectrum values are evaluated at the lambda list (1 to 8 nm values).\n"
+    "                   `hit` exists in expressions only, not in definitions: give a\n"
+    "                   definition a Hit parameter (fn u(h: Hit) = h.uv.x) and call u(hit)\n"
     "  :help            this text\n"
     "  :quit            leave (also Ctrl-D)\n";
+
+// Ctrl-C while a line is read (interactive only): the handler sets a flag and writes a byte to
+// a pipe; the getc function below waits on the terminal and that pipe, so it wakes whichever
+// thread the signal went to (commands run on a thread of their own), reports end of input,
+// readline returns, and the REPL abandons the unfinished input instead of dying. Outside
+// readline, SIGINT keeps its default action, so Ctrl-C still stops a long evaluation.
+volatile sig_atomic_t gInterrupted = 0;
+int gWake[2] = {-1, -1};  // the self-pipe: read end, write end (both non-blocking)
+
+void onInterrupt(int) {
+  int saved = errno;
+  gInterrupted = 1;
+  char byte = 0;
+  if (gWake[1] >= 0 && ::write(gWake[1], &byte, 1) < 0) {
+    // full or closed: the flag alone is enough then
+  }
+  errno = saved;
+}
+
+void drainWakePipe() {
+  char bytes[64];
+  while (gWake[0] >= 0 && ::read(gWake[0], bytes, sizeof bytes) > 0) {
+  }
+}
+
+int readChar(FILE* in) {
+  int fd = fileno(in);
+  while (true) {
+    if (gInterrupted) return EOF;
+    pollfd fds[2] = {{fd, POLLIN, 0}, {gWake[0], POLLIN, 0}};
+    int ready = ::poll(fds, gWake[0] >= 0 ? 2 : 1, -1);
+    if (ready < 0) {
+      if (errno == EINTR) continue;  // a signal: Ctrl-C set the flag, others (resize) retry
+      return EOF;
+    }
+    if (ready > 0 && gWake[0] >= 0 && fds[1].revents) {
+      drainWakePipe();
+      continue;
+    }
+    unsigned char c;
+    ssize_t n = ::read(fd, &c, 1);
+    if (n == 1) return c;
+    if (n < 0 && errno == EINTR) continue;
+    return EOF;
+  }
+}
+
+std::string trim(const std::string& s) {
+  size_t b = s.find_first_not_of(" \t\r\n");
+  if (b == std::string::npos) return "";
+  size_t e = s.find_last_not_of(" \t\r\n");
+  return s.substr(b, e - b + 1);
+}
 
 struct HitContext {
   float p[3] = {0.5f, 0.5f, 0};
@@ -57,14 +123,19 @@ class Repl {
     std::string pending;
     while (true) {
       std::string line;
-      if (!readLine(pending.empty() ? "tex> " : "...> ", line)) break;
-      if (pending.empty() && line.empty()) continue;
-      if (pending.empty() && line[0] == ':') {
+      bool interrupted = false;
+      if (!readLine(pending.empty() ? "tex> " : "...> ", line, interrupted)) {
+        if (!interrupted) break;
+        pending.clear();  // Ctrl-C: drop the unfinished input and start again
+        continue;
+      }
+      if (pending.empty() && trim(line).empty()) continue;
+      if (pending.empty() && trim(line)[0] == ':') {  // no expression starts with ':'
         if (!command(line)) break;
         continue;
       }
       pending += pending.empty() ? line : "\n" + line;
-      if (!line.empty() && incomplete(pending)) continue;  // an empty line forces evaluation
+      if (!trim(line).empty() && incomplete(pending)) continue;  // an empty line forces evaluation
       input(pending);
       pending.clear();
     }
@@ -78,9 +149,26 @@ class Repl {
     session_->replModule();
   }
 
-  bool readLine(const char* prompt, std::string& line) {
+  bool readLine(const char* prompt, std::string& line, bool& interrupted) {
+    interrupted = false;
     if (interactive_) {
+      struct sigaction handler {}, previous {};
+      handler.sa_handler = onInterrupt;
+      sigemptyset(&handler.sa_mask);
+      handler.sa_flags = 0;  // no SA_RESTART: a blocked read returns EINTR
+      drainWakePipe();
+      gInterrupted = 0;
+      sigaction(SIGINT, &handler, &previous);
       char* raw = readline(prompt);
+      sigaction(SIGINT, &previous, nullptr);
+      if (gInterrupted) {
+        gInterrupted = 0;
+        std::free(raw);
+        std::printf("\n");
+        std::fflush(stdout);
+        interrupted = true;
+        return false;
+      }
       if (!raw) {
         std::printf("\n");
         return false;
@@ -99,6 +187,10 @@ class Repl {
     auto file = std::make_shared<lang::SourceFile>("<repl>", text);
     lang::Expr* expr = nullptr;
     lang::parseReplInput(file, scratch, expr);
+    // A lexical error (a stray character, invalid UTF-8, a malformed literal) ends the input at
+    // once: no further line can repair it. Only an unterminated block comment continues.
+    for (const lang::Diagnostic& d : scratch.items())
+      if (d.code.compare(0, 3, "E01") == 0 && d.code != "E0103") return false;
     for (const lang::Diagnostic& d : scratch.items()) {
       if (d.code == "E0203") return true;
       if (d.code == "E0201" && d.span.begin >= text.size()) return true;
@@ -118,66 +210,127 @@ class Repl {
 
   lang::Value hitValue() const { return lang::makeHit(hit_.p, hit_.n, hit_.uv, 0, 0); }
 
-  // Compiles an expression input; returns the IR function index or -1.
-  int compile(const std::string& text, bool recordDefinitions) {
-    lang::Expr* expr = nullptr;
-    bool ok = session_->addReplInput(text, expr, ++inputs_);
-    if (ok && !expr && recordDefinitions) history_.push_back(text);
-    if (!ok || !expr) {
-      printNewDiagnostics();
-      return -1;
+  // A definition that uses `hit` gets a hint: `hit` is the :hit context of expressions only.
+  void explainHitInDefinitions(size_t from) {
+    for (size_t i = from; i < session_->diags().size(); ++i) {
+      lang::Diagnostic& d = session_->diags().at(i);
+      if (d.code != "E0301" || !d.span.file || !d.help.empty()) continue;
+      if (d.span.file->text.compare(d.span.begin, d.span.end - d.span.begin, "hit") != 0) continue;
+      d.help = "`hit` (the :hit context) exists in REPL expressions only; a definition takes a Hit parameter, "
+               "e.g. `fn u(h: Hit) = h.uv.x`, and the expression `u(hit)` passes the context";
     }
-    int fn = session_->compileExpression(session_->replModule(), expr, {{"hit", lang::TypeTable::global().hit()}});
+  }
+
+  // An input that holds nothing but a lexical error (`@`, or a comment with invalid UTF-8) also
+  // gets "expected an expression, found end of file", which only repeats it: drop that. (With
+  // any valid token in the input, a syntax error at its end is an error of its own.)
+  void dropCascadeAfterLexicalError(size_t from, const std::string& text) {
+    lang::Diagnostics& diags = session_->diags();
+    lang::Diagnostics scratch;
+    lang::SourceFile file("<repl>", text);
+    if (lang::lex(file, scratch).size() != 1 || !scratch.hasErrors()) return;  // only End: no valid token
+    std::vector<lang::Diagnostic> kept(diags.items().begin(), diags.items().end());
+    kept.erase(std::remove_if(kept.begin() + long(from), kept.end(),
+                              [&](const lang::Diagnostic& d) { return d.code == "E0201" && d.span.begin >= text.size(); }),
+               kept.end());
+    diags.clear();
+    for (lang::Diagnostic& d : kept) diags.add(std::move(d));
+  }
+
+  // Adds one input to the session: a definition (or import) stays, fn is -1; an expression is
+  // compiled to IR function fn, which the caller drops again after use. An input with an error
+  // is undone at once: it leaves no trace, so later uses of the names it tried to define are
+  // unknown names, and a module it failed to import is loaded (and reported) afresh next time.
+  // `wantExpression`: a definition is refused (:type, :ir). Returns false after an error.
+  bool compile(const std::string& text, int& fn, bool wantExpression) {
+    fn = -1;
+    lang::Session::ReplMark mark = session_->replMark();
+    lang::Expr* expr = nullptr;
+    size_t before = session_->diags().size();
+    bool ok = session_->addReplInput(text, expr, ++inputs_);
+    if (!ok && !expr) {
+      explainHitInDefinitions(before);
+      dropCascadeAfterLexicalError(before, text);
+    }
+    if (ok && expr) {
+      fn = session_->compileExpression(session_->replModule(), expr, {{"hit", lang::TypeTable::global().hit()}});
+      ok = fn >= 0;
+    }
+    bool refused = ok && !expr && wantExpression;
     printNewDiagnostics();
-    return fn;
+    if (refused) {
+      std::fprintf(stderr, "error: this command takes an expression, not a definition (nothing was defined)\n");
+      sawError_ = true;
+      ok = false;
+    }
+    if (!ok) {
+      fn = -1;
+      session_->replRollback(mark);
+    }
+    return ok;
   }
 
   void input(const std::string& text) {
     // Expressions are compiled, evaluated and dropped again; definitions stay.
     lang::Session::Mark mark = session_->mark();
-    int fn = compile(text, true);
-    if (fn >= 0) {
-      const lang::ir::Function& f = session_->program().functions[size_t(fn)];
-      lang::Value v;
-      if (run(fn, v))
-        std::printf("%s : %s\n", lang::formatValue(v, f.resultType, hit_.group).c_str(), lang::typeName(f.resultType).c_str());
-      std::fflush(stdout);
-      session_->rollback(mark);
+    int fn = -1;
+    if (!compile(text, fn, false)) return;
+    if (fn < 0) {
+      history_.push_back(text);  // a definition: :reload replays it
+      return;
     }
+    const lang::ir::Function& f = session_->program().functions[size_t(fn)];
+    lang::Value v;
+    if (run(fn, v))
+      std::printf("%s : %s\n", lang::formatValue(v, f.resultType, hit_.group).c_str(), lang::typeName(f.resultType).c_str());
+    std::fflush(stdout);
+    session_->rollback(mark);
   }
 
   bool command(const std::string& line) {
-    std::string name = line.substr(0, line.find(' '));
-    std::string rest = line.size() > name.size() ? line.substr(name.size() + 1) : "";
+    std::string text = trim(line);
+    size_t space = text.find_first_of(" \t");
+    std::string name = text.substr(0, space);
+    std::string rest = space == std::string::npos ? "" : trim(text.substr(space));
     if (name == ":quit" || name == ":q" || name == ":exit") return false;
     if (name == ":help" || name == ":h") {
       std::fputs(kHelp, stdout);
     } else if (name == ":type" || name == ":t") {
       lang::Session::Mark mark = session_->mark();
-      int fn = compile(rest, false);
-      if (fn >= 0) {
+      int fn = -1;
+      if (compile(rest, fn, true)) {
         std::printf("%s\n", lang::typeName(session_->program().functions[size_t(fn)].resultType).c_str());
         session_->rollback(mark);
       }
     } else if (name == ":ir") {
       lang::Session::Mark mark = session_->mark();
-      int fn = compile(rest, false);
-      if (fn >= 0) {
+      int fn = -1;
+      if (compile(rest, fn, true)) {
         std::set<int> shown;
         dumpWithCallees(fn, shown);
         session_->rollback(mark);
       }
     } else if (name == ":load" || name == ":l") {
-      load(rest, true);
+      if (load(rest) && std::find(loaded_.begin(), loaded_.end(), rest) == loaded_.end()) loaded_.push_back(rest);
     } else if (name == ":reload" || name == ":r") {
+      // Everything is loaded and replayed afresh. A file or definition that fails now stays
+      // on the lists, so that fixing it and reloading again brings it back.
       reset();
-      auto files = loaded_;
-      auto defs = history_;
-      loaded_.clear();
-      history_.clear();
-      for (const std::string& f : files) load(f, true);
-      for (const std::string& d : defs) compile(d, true);
-      std::printf("reloaded %zu file(s) and %zu definition(s)\n", files.size(), defs.size());
+      size_t failedFiles = 0, failedDefinitions = 0;
+      for (const std::string& f : loaded_) failedFiles += !load(f);
+      for (const std::string& d : history_) {
+        int fn = -1;
+        failedDefinitions += !compile(d, fn, false);
+      }
+      if (failedFiles + failedDefinitions == 0) {
+        std::printf("reloaded %zu file(s) and %zu definition(s)\n", loaded_.size(), history_.size());
+      } else {
+        std::fprintf(stderr,
+                     "reload incomplete: %zu of %zu file(s) and %zu of %zu definition(s) failed; they stay listed "
+                     "for the next :reload\n",
+                     failedFiles, loaded_.size(), failedDefinitions, history_.size());
+        sawError_ = true;
+      }
     } else if (name == ":hit") {
       setHit(rest);
     } else {
@@ -240,19 +393,25 @@ class Repl {
     if (program.functions[size_t(fn)].body) visit(program.functions[size_t(fn)].body);
   }
 
-  void load(const std::string& path, bool remember) {
+  // Loads a file into the REPL. A file with an error is undone (nothing of it, nor of the
+  // modules it imported, stays loaded), so loading it again reports the same errors.
+  bool load(const std::string& path) {
     if (path.empty()) {
       std::fprintf(stderr, ":load needs a file name\n");
       sawError_ = true;
-      return;
+      return false;
     }
+    lang::Session::ReplMark mark = session_->replMark();
     lang::ModuleInfo* module = session_->loadFile(path);
     bool failed = !module || session_->diags().hasErrors();
     printNewDiagnostics();
-    if (failed) return;
+    if (failed) {
+      session_->replRollback(mark);
+      return false;
+    }
     session_->importIntoRepl(module);
-    if (remember) loaded_.push_back(path);
     std::printf("loaded %s\n", path.c_str());
+    return true;
   }
 
   static bool parseFloats(const std::string& text, float* out, int maxCount, int& count) {
@@ -322,6 +481,11 @@ int runRepl(const Args& args) {
     else return usageError("repl", "unknown option '" + args[i] + "'");
   }
   bool interactive = isatty(STDIN_FILENO) && isatty(STDOUT_FILENO);
+  // Set before libedit initialises (read_history or the first readline do that).
+  if (interactive) {
+    rl_getc_function = readChar;
+    if (pipe2(gWake, O_NONBLOCK | O_CLOEXEC) != 0) gWake[0] = gWake[1] = -1;
+  }
   // History persists across sessions in ~/.tex_history (interactive use only).
   std::string historyFile;
   if (const char* home = std::getenv("HOME"); interactive && home && *home) {

@@ -1,5 +1,6 @@
 // `tex`: the command-line program. Dispatches to the registered subcommands.
 #include <pthread.h>
+#include <tbb/global_control.h>
 
 #include <algorithm>
 #include <new>
@@ -89,7 +90,11 @@ int main(int argc, char** argv) {
   // The language's RGB-to-spectrum builtins use the renderer's fitted table.
   tex::render::installRgbUpsampling();
   // The front end and interpreter recurse over syntax trees; their depth is bounded by the
-  // parser's nesting limit, and a large stack keeps that bound far from an overflow.
+  // parser's limits (8192 levels per definition), and a large stack keeps that bound far from
+  // an overflow. The same for TBB's workers, which run the interpreter in `tex eval --interp`
+  // (their default 2-4 MB overflowed at 4600 levels; calls nest up to ir::kMaxInlinedDepth,
+  // about 450 bytes a level); only touched pages are committed.
+  tbb::global_control workerStack(tbb::global_control::thread_stack_size, size_t(256) << 20);
   tex::cli::MainJob job{argc, argv};
   pthread_attr_t attr;
   pthread_attr_init(&attr);

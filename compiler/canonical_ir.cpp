@@ -1,8 +1,10 @@
 #include "compiler/canonical_ir.h"
 
+#include <algorithm>
 #include <cstring>
 #include <deque>
 #include <map>
+#include <set>
 #include <sstream>
 
 #include "lang/image_table.h"
@@ -113,28 +115,100 @@ class Canonicaliser {
 
 uint64_t saturatingAdd(uint64_t a, uint64_t b) { return a + b < a ? UINT64_MAX : a + b; }
 
-uint64_t nodeSize(const lang::ir::Program& program, const Node* n, std::map<int, uint64_t>& memo);
-
+// The inlined size of function f (its nodes, each call or fold counting its callee's inlined
+// size), memoised per function. Iterative, over the nodes and over the call chain: bodies 8192
+// levels deep calling each other 60 deep overflowed the stack when this recursed.
 uint64_t functionSize(const lang::ir::Program& program, int f, std::map<int, uint64_t>& memo) {
   if (auto it = memo.find(f); it != memo.end()) return it->second;
-  memo[f] = 0;  // no recursion in valid programs; guards against cycles anyway
-  uint64_t size = nodeSize(program, program.functions[size_t(f)].body, memo);
-  memo[f] = size;
-  return size;
-}
-
-uint64_t nodeSize(const lang::ir::Program& program, const Node* n, std::map<int, uint64_t>& memo) {
-  uint64_t size = 1;
-  if (n->kind == Node::Kind::Call || n->kind == Node::Kind::Fold)
-    size = saturatingAdd(size, functionSize(program, n->callee, memo));
-  for (const Node* a : n->args) size = saturatingAdd(size, nodeSize(program, a, memo));
-  return size;
+  // Functions waiting for their callees: exactly the ancestors of the one being summed (what is
+  // above one on the work stack was pushed by it or its callees), so a callee among them is a
+  // cycle, which counts 0 (no valid program has one).
+  std::set<int> waiting;
+  std::vector<int> work = {f};
+  std::vector<const Node*> nodes;
+  while (!work.empty()) {
+    const int g = work.back();
+    if (memo.count(g)) {
+      work.pop_back();
+      continue;
+    }
+    uint64_t size = 0;
+    std::vector<int> missing;
+    nodes.assign(1, program.functions[size_t(g)].body);
+    while (!nodes.empty()) {
+      const Node* n = nodes.back();
+      nodes.pop_back();
+      if (!n) continue;
+      size = saturatingAdd(size, 1);
+      if (n->kind == Node::Kind::Call || n->kind == Node::Kind::Fold) {
+        if (auto it = memo.find(n->callee); it != memo.end()) size = saturatingAdd(size, it->second);
+        else if (!waiting.count(n->callee)) missing.push_back(n->callee);
+      }
+      for (const Node* a : n->args) nodes.push_back(a);
+    }
+    if (missing.empty()) {
+      memo[g] = size;
+      waiting.erase(g);
+      work.pop_back();
+    } else {
+      waiting.insert(g);
+      for (int m : missing) work.push_back(m);  // computed first, then g is summed again
+    }
+  }
+  return memo[f];
 }
 
 }  // namespace
 
 std::string canonicalText(const lang::ir::Program& program, const std::vector<int>& entries) {
   return Canonicaliser(program).run(entries);
+}
+
+namespace {
+
+uint64_t typeWords(const lang::Type* type, int wavelengths, std::map<const lang::Type*, uint64_t>& memo) {
+  if (auto it = memo.find(type); it != memo.end()) return it->second;
+  uint64_t words = 0;
+  switch (type->kind) {
+    case lang::TypeKind::Spectrum: words = uint64_t(wavelengths); break;
+    case lang::TypeKind::Record:
+    case lang::TypeKind::Lambda:
+      // Field types are strictly smaller than the record (types are finite trees, shared):
+      // the recursion is as deep as the type's nesting, which the checker bounds.
+      for (auto& field : type->fields) words = saturatingAdd(words, typeWords(field.second, wavelengths, memo));
+      break;
+    default: words = uint64_t(std::max(type->fixedLanes(), 1));
+  }
+  memo[type] = words;
+  return words;
+}
+
+}  // namespace
+
+LargestValue largestValue(const lang::ir::Program& program, int function, int wavelengths) {
+  LargestValue largest;
+  std::map<const lang::Type*, uint64_t> memo;
+  std::set<int> seen = {function};
+  std::vector<int> functions = {function};
+  std::vector<const Node*> nodes;
+  while (!functions.empty()) {
+    const lang::ir::Function& fn = program.functions[size_t(functions.back())];
+    functions.pop_back();
+    nodes.assign(1, fn.body);
+    while (!nodes.empty()) {
+      const Node* n = nodes.back();
+      nodes.pop_back();
+      if (!n) continue;
+      if (n->type) {
+        const uint64_t words = typeWords(n->type, wavelengths, memo);
+        if (words > largest.words) largest = {words, n->type};
+      }
+      if ((n->kind == Node::Kind::Call || n->kind == Node::Kind::Fold) && seen.insert(n->callee).second)
+        functions.push_back(n->callee);
+      for (const Node* a : n->args) nodes.push_back(a);
+    }
+  }
+  return largest;
 }
 
 uint64_t inlinedSize(const lang::ir::Program& program, int function) {

@@ -14,6 +14,7 @@
 
 #include <functional>
 #include <map>
+#include <unordered_map>
 #include <set>
 
 #include "compiler/abi.h"
@@ -72,7 +73,15 @@ class Codegen {
   // ---- types ---------------------------------------------------------------------------
   int lanes(const Type* t) const { return t->kind == TypeKind::Spectrum ? options_.wavelengths : t->fixedLanes(); }
 
+  // Memoised: record types share structure (a type of 41 nodes can have 2^40 leaves, refused by
+  // the size check in jit.cpp; still, each distinct type is lowered once).
   llvm::Type* lower(const Type* t) {
+    if (auto it = lowered_.find(t); it != lowered_.end()) return it->second;
+    llvm::Type* l = lowerUncached(t);
+    lowered_[t] = l;
+    return l;
+  }
+  llvm::Type* lowerUncached(const Type* t) {
     switch (t->kind) {
       case TypeKind::Bool: return i1_;
       case TypeKind::Int: return i32_;
@@ -816,6 +825,7 @@ class Codegen {
   llvm::MDNode* likely_;         // branch weights: the first successor is the common case
   lang::ir::WavelengthDependence dependence_;  // closure flags, analysed once per compile
   std::map<FunctionKey, llvm::Function*> functions_;
+  std::unordered_map<const Type*, llvm::Type*> lowered_;
   std::map<std::pair<std::string, bool>, std::pair<llvm::GlobalVariable*, llvm::GlobalVariable*>> imageGlobals_;  // path, cache
   std::map<int, uint64_t> callSites_, ownSize_;
   std::set<int> loops_;      // functions whose own body has a fold

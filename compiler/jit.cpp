@@ -241,6 +241,14 @@ std::unique_ptr<CompiledModule> compile(const lang::ir::Program& program, const 
       return fail("E0501", "internal compiler error: no such function to compile");
     if (program.functions[size_t(e)].resultType->isError())
       return fail("E0501", "internal compiler error: cannot compile a function with type errors");
+    // A value too large to hold (records sharing structure double per level) is refused
+    // before LLVM is asked to lay out its type.
+    const LargestValue largest = largestValue(program, e, options.wavelengths);
+    if (largest.words > options.maxValueWords)
+      return fail("E0413",
+                  "a value of '" + program.functions[size_t(e)].name + "' would take " + std::to_string(largest.words) +
+                      " words; the limit is " + std::to_string(options.maxValueWords),
+                  "records that contain the same record twice double in size with each level");
     uint64_t size = inlinedSize(program, e);
     if (size > options.maxInlinedNodes)
       return fail("E0413",

@@ -23,6 +23,7 @@ struct CompileOptions {
   bool useCache = true;          // the on-disk object cache (docs/abi.md, "Cache")
   std::string cacheDir;          // empty: $TEX_CACHE_DIR, else $XDG_CACHE_HOME/tex, else ~/.cache/tex
   uint64_t maxInlinedNodes = 4'000'000;  // specialised-code size limit (E0413)
+  uint64_t maxValueWords = 65536;         // largest value, in 32-bit words (E0413)
 };
 
 // What a compile did, for benchmarks and tests.

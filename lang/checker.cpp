@@ -484,7 +484,16 @@ int Builder::instantiateCallable(const Type* callable, const std::vector<const T
     return -1;
   }
   auto key = std::make_pair(static_cast<const void*>(callable), args);
-  if (auto it = impl.instances.find(key); it != impl.instances.end()) return it->second;
+  if (auto it = impl.instances.find(key); it != impl.instances.end()) {
+    // An instance still being checked (no result type yet) is asked for again: the lambda
+    // calls itself through an argument (`(|f| f(f))(|f| f(f))`), recursion the resolver
+    // cannot see by name. Its unfinished function must not be used.
+    if (!program.functions[size_t(it->second)].resultType) {
+      error("E0307", at, "this lambda is called recursively (through an argument)", "recursion is not allowed");
+      return -1;
+    }
+    return it->second;
+  }
   if (++impl.genericInstances > impl.maxInstances() || impl.instanceDepth > 200) {
     error("E0413", at, "specialisation limit exceeded: too many or too deeply nested function instances");
     return -1;
@@ -869,8 +878,19 @@ const Type* Session::Impl::resolveType(const TypeExpr* t, ModuleInfo* module, in
           {"Vec2", TypeKind::Vec2},   {"Vec3", TypeKind::Vec3},   {"Vec4", TypeKind::Vec4},
           {"Color", TypeKind::Color}, {"Spectrum", TypeKind::Spectrum}, {"Material", TypeKind::Material}, {"Image", TypeKind::Image}};
       if (const Symbol* sym = lookupSymbol(module, t->name)) {
-        if (sym->kind == Symbol::Kind::TypeAlias)
-          return resolveType(sym->typeItem->resultType, sym->owner, depth + 1);
+        if (sym->kind == Symbol::Kind::TypeAlias) {
+          // A cycle is reported where it closes, at once: `type S = (S) -> S` used to be
+          // expanded to depth 64 along both the parameter and the result (2^64 steps).
+          const void* alias = sym->typeItem;
+          if (std::find(resolvingAliases.begin(), resolvingAliases.end(), alias) != resolvingAliases.end()) {
+            error("E0310", t->span, "type alias '" + t->name + "' refers to itself");
+            return types.error();
+          }
+          resolvingAliases.push_back(alias);
+          const Type* resolved = resolveType(sym->typeItem->resultType, sym->owner, depth + 1);
+          resolvingAliases.pop_back();
+          return resolved;
+        }
         if (sym->kind == Symbol::Kind::Decl && !sym->decl) return types.error();  // failed import
       }
       if (auto it = builtin.find(t->name); it != builtin.end()) return types.basic(it->second);
@@ -890,8 +910,13 @@ const Type* Session::Impl::resolveType(const TypeExpr* t, ModuleInfo* module, in
     }
     case TypeExpr::Kind::Function: {
       std::vector<const Type*> params;
-      for (auto* p : t->params) params.push_back(resolveType(p, module, depth + 1));
-      return types.function(params, resolveType(t->result, module, depth + 1));
+      for (auto* p : t->params) {
+        params.push_back(resolveType(p, module, depth + 1));
+        if (params.back()->isError()) return params.back();
+      }
+      const Type* result = resolveType(t->result, module, depth + 1);
+      if (result->isError()) return result;
+      return types.function(params, result);
     }
   }
   return types.error();

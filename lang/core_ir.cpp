@@ -1,6 +1,10 @@
 #include "lang/core_ir.h"
 
+#include <algorithm>
+#include <set>
 #include <sstream>
+#include <utility>
+#include <vector>
 
 namespace tex::lang::ir {
 
@@ -94,6 +98,46 @@ std::string dump(const Program& program, int function) {
   out << ") -> " << typeName(fn.resultType) << "\n";
   if (fn.body) dumpNode(out, fn.body, 1);
   return out.str();
+}
+
+uint64_t inlinedDepth(const Program& program, int function, std::map<int, uint64_t>& memo) {
+  if (auto it = memo.find(function); it != memo.end()) return it->second;
+  // As compiler::inlinedSize: functions waiting for their callees are the ancestors of the one
+  // being measured, so a callee among them is a cycle (none in valid programs), counted 0.
+  std::set<int> waiting;
+  std::vector<int> work = {function};
+  std::vector<std::pair<const Node*, uint64_t>> nodes;
+  while (!work.empty()) {
+    const int g = work.back();
+    if (memo.count(g)) {
+      work.pop_back();
+      continue;
+    }
+    uint64_t deepest = 0;
+    std::vector<int> missing;
+    nodes.assign(1, {program.functions[size_t(g)].body, 1});
+    while (!nodes.empty()) {
+      auto [n, depth] = nodes.back();
+      nodes.pop_back();
+      if (!n) continue;
+      uint64_t here = depth;
+      if (n->kind == Node::Kind::Call || n->kind == Node::Kind::Fold) {
+        if (auto it = memo.find(n->callee); it != memo.end()) here = depth + it->second;
+        else if (!waiting.count(n->callee)) missing.push_back(n->callee);
+      }
+      deepest = std::max(deepest, here);
+      for (const Node* a : n->args) nodes.push_back({a, depth + 1});
+    }
+    if (missing.empty()) {
+      memo[g] = deepest;
+      waiting.erase(g);
+      work.pop_back();
+    } else {
+      waiting.insert(g);
+      for (int m : missing) work.push_back(m);
+    }
+  }
+  return memo[function];
 }
 
 }  // namespace tex::lang::ir

@@ -5,6 +5,7 @@
 #pragma once
 #include <cstdint>
 #include <deque>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -132,5 +133,12 @@ struct Program {
 };
 
 std::string dump(const Program& program, int function);
+
+// How deep evaluating `function` nests once every call and fold is expanded in place: the
+// depth of its body's tree, a call adding its callee's inlined depth under it. The interpreter
+// and the compiler recurse that deep; Session refuses entries beyond kMaxInlinedDepth (E0413).
+// Iterative (no recursion of its own), memoised per function in `memo`.
+constexpr uint64_t kMaxInlinedDepth = 65536;
+uint64_t inlinedDepth(const Program& program, int function, std::map<int, uint64_t>& memo);
 
 }  // namespace tex::lang::ir

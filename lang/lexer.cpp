@@ -292,47 +292,65 @@ class Lexer {
     return t;
   }
 
+  // Number literals (docs/language.md section 1). Underscores group the digits of integer
+  // literals and must sit between two digits (`1_000`, `0xff_ff`); `1_`, `1__0`, `0x_1`, `1_e5`
+  // and any underscore in a float literal are E0104, as are `1.`, `1.e5` and `.5`.
   Token number() {
     size_t begin = pos_;
-    bool isFloat = false, malformed = false;
     std::string digits;
-    if (text_[pos_] == '0' && (peek(1) == 'x' || peek(1) == 'X')) {
-      pos_ += 2;
-      while (pos_ < text_.size() && (isHexDigit(text_[pos_]) || text_[pos_] == '_')) {
-        if (text_[pos_] != '_') digits += text_[pos_];
-        ++pos_;
-      }
-      if (digits.empty()) malformed = true;
-      while (pos_ < text_.size() && isIdentChar(text_[pos_])) { ++pos_; malformed = true; }
-      if (malformed) return malformedNumber(begin);
-      return intToken(begin, digits, 16);
-    }
-    auto readDigits = [&] {
+    const char* problem = nullptr;  // why the literal is malformed (its help text)
+    const char* kMisplacedUnderscore = "an underscore must stand between two digits, as in 1_000 or 0xff_ff";
+    // Reads digits and underscores; returns how many digits. `hex` selects the digit set.
+    auto readDigits = [&](bool hex, bool& sawUnderscore) {
+      auto digit = [&](char ch) { return hex ? isHexDigit(ch) : isDigit(ch); };
       size_t n = 0;
-      while (pos_ < text_.size() && (isDigit(text_[pos_]) || text_[pos_] == '_')) {
-        if (text_[pos_] != '_') { digits += text_[pos_]; ++n; }
+      while (pos_ < text_.size() && (digit(text_[pos_]) || text_[pos_] == '_')) {
+        if (text_[pos_] == '_') {
+          sawUnderscore = true;
+          if (!(pos_ > begin && digit(text_[pos_ - 1]) && digit(peek(1))) && !problem) problem = kMisplacedUnderscore;
+        } else {
+          digits += text_[pos_];
+          ++n;
+        }
         ++pos_;
       }
       return n;
     };
-    readDigits();
-    if (pos_ < text_.size() && text_[pos_] == '.' && !isIdentStart(peek(1))) {
-      // A '.' followed by a letter is a method-like field access on an Int (an error later),
-      // so only a '.' followed by a digit (or nothing) belongs to the number.
+    bool underscore = false;
+    if (text_[pos_] == '0' && (peek(1) == 'x' || peek(1) == 'X')) {
+      pos_ += 2;
+      if (readDigits(true, underscore) == 0 && !problem) problem = "write hex digits after 0x, e.g. 0x2a";
+      if (pos_ < text_.size() && isIdentChar(text_[pos_]) && !problem) problem = "numbers look like 42, 0x2a, 1_000, 1.5 or 2.5e-3";
+      while (pos_ < text_.size() && isIdentChar(text_[pos_])) ++pos_;
+      if (problem) return malformedNumber(begin, problem);
+      return intToken(begin, digits, 16);
+    }
+    readDigits(false, underscore);
+    bool isFloat = false, fractionUnderscore = false;
+    // A '.' followed by a letter is a field access on an Int (an error later), so only a '.'
+    // followed by a digit (or nothing) belongs to the number; and `1.e5` is a float missing
+    // the digits after its point.
+    bool dotExponent = peek(0) == '.' && (peek(1) == 'e' || peek(1) == 'E') &&
+                       (isDigit(peek(2)) || peek(2) == '+' || peek(2) == '-' || peek(2) == '_');
+    if (pos_ < text_.size() && text_[pos_] == '.' && (!isIdentStart(peek(1)) || dotExponent)) {
       isFloat = true;
       digits += '.';
       ++pos_;
-      if (readDigits() == 0) malformed = true;
+      if (readDigits(false, fractionUnderscore) == 0 && !problem)
+        problem = "write a digit after the decimal point, e.g. 1.0 or 1.0e5";
     }
     if (pos_ < text_.size() && (text_[pos_] == 'e' || text_[pos_] == 'E')) {
       isFloat = true;
       digits += 'e';
       ++pos_;
       if (pos_ < text_.size() && (text_[pos_] == '+' || text_[pos_] == '-')) digits += text_[pos_++];
-      if (readDigits() == 0) malformed = true;
+      if (readDigits(false, fractionUnderscore) == 0 && !problem) problem = "write the exponent's digits, e.g. 2.5e-3";
     }
-    while (pos_ < text_.size() && isIdentChar(text_[pos_])) { ++pos_; malformed = true; }
-    if (malformed) return malformedNumber(begin);
+    if (pos_ < text_.size() && isIdentChar(text_[pos_]) && !problem) problem = "numbers look like 42, 0x2a, 1_000, 1.5 or 2.5e-3";
+    while (pos_ < text_.size() && isIdentChar(text_[pos_])) ++pos_;
+    if (isFloat && (underscore || fractionUnderscore) && !problem)
+      problem = "underscores group the digits of integer literals only; write float literals without them (1000.5)";
+    if (problem) return malformedNumber(begin, problem);
     if (!isFloat) return intToken(begin, digits, 10);
     Token t = make(Tok::Float, begin);
     // strtof rounds correctly to binary32 and gives inf on overflow, as the spec says.
@@ -340,9 +358,8 @@ class Lexer {
     return t;
   }
 
-  Token malformedNumber(size_t begin) {
-    diags_.error("E0104", span(begin, pos_), "malformed number literal",
-                 "numbers look like 42, 0x2a, 1_000, 1.5 or 2.5e-3");
+  Token malformedNumber(size_t begin, const char* help) {
+    diags_.error("E0104", span(begin, pos_), "malformed number literal", help);
     return make(Tok::Float, begin);  // a placeholder 0.0 keeps the parser quiet
   }
 

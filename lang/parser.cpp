@@ -2,6 +2,10 @@
 
 #include "lang/lexer.h"
 
+#include <algorithm>
+#include <utility>
+#include <vector>
+
 namespace tex::lang {
 
 const char* binaryOpText(BinaryOp op) {
@@ -69,6 +73,7 @@ class Parser {
       try {
         expr = parseExpr();
         if (!at(Tok::End)) errorHere("expected end of input");
+        checkTreeDepth(expr);
       } catch (const ParseAbort&) {
         expr = nullptr;
       }
@@ -251,7 +256,42 @@ class Parser {
     return item;
   }
 
+  // The depth of a syntax tree (a leaf is 1), walked with an explicit stack.
+  static int treeDepth(const Expr* root) {
+    int deepest = 0;
+    std::vector<std::pair<const Expr*, int>> stack;
+    if (root) stack.push_back({root, 1});
+    while (!stack.empty()) {
+      auto [e, depth] = stack.back();
+      stack.pop_back();
+      deepest = std::max(deepest, depth);
+      for (const Expr* child : {e->a, e->b, e->c})
+        if (child) stack.push_back({child, depth + 1});
+      for (const Argument& arg : e->args)
+        if (arg.value) stack.push_back({arg.value, depth + 1});
+      for (const FieldInit& field : e->fields)
+        if (field.value) stack.push_back({field.value, depth + 1});
+    }
+    return deepest;
+  }
+
+  // E0202 for a tree deeper than kMaxTreeDepth: each limit of the grammar holds (256 levels,
+  // 4096-long chains), but chains nested in chains multiply (256 x 4096 levels overflowed the
+  // interpreter's and the compiler's stacks).
+  void checkTreeDepth(const Expr* e) {
+    if (!e) return;
+    const int depth = treeDepth(e);
+    if (depth <= kMaxTreeDepth) return;
+    diags_.error("E0202", Span{file_.get(), e->span.begin, e->span.begin},
+                 "expression nested too deeply: its tree is " + std::to_string(depth) + " levels deep (at most " +
+                     std::to_string(kMaxTreeDepth) + ", each operator of a chain counting as a level)",
+                 "split it into smaller definitions with let bindings or functions");
+    throw ParseAbort{};
+  }
+
   void finishItem(Item& item, Span keyword) {
+    checkTreeDepth(item.body);
+    for (const Param& param : item.params) checkTreeDepth(param.defaultValue);
     item.span = join(keyword, prevEnd());
     module_->items.push_back(std::move(item));
   }

@@ -9,6 +9,10 @@ namespace tex::lang {
 
 constexpr int kMaxNestingDepth = 256;   // brackets, blocks, calls, unary operators, lets, lambdas
 constexpr int kMaxChainLength = 4096;   // operators in one chain, calls in one postfix chain, lets in one block
+// Levels of one definition's syntax tree, every node counted (so each operator of a chain is a
+// level): chains nested in chains multiply, and the checker, interpreter and compiler recurse
+// over the tree.
+constexpr int kMaxTreeDepth = 8192;
 
 // Lexes and parses a whole file. Always returns a module (possibly partial); errors go to diags.
 std::unique_ptr<Module> parseModule(std::shared_ptr<SourceFile> file, Diagnostics& diags);

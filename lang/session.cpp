@@ -250,6 +250,7 @@ ModuleInfo* Session::replModule() {
 
 bool Session::addReplInput(const std::string& text, Expr*& expression, int inputNumber) {
   ModuleInfo* repl = replModule();
+  impl_->reported.clear();  // each input is its own request: an error met before is reported again
   auto file = std::make_shared<SourceFile>("<repl:" + std::to_string(inputNumber) + ">", text);
   size_t errorsBefore = diags_.items().size();
   auto ast = parseReplInput(file, diags_, expression);
@@ -294,18 +295,57 @@ void Session::importIntoRepl(ModuleInfo* module) {
   }
 }
 
+Session::ReplMark Session::replMark() {
+  ReplMark mark;
+  mark.functions = program_.functions.size();
+  mark.nodes = program_.nodes.size();
+  mark.scope = replModule()->scope;
+  for (const auto& [path, module] : impl_->modulesByPath) mark.modules.insert(path);
+  return mark;
+}
+
+void Session::replRollback(const ReplMark& mark) {
+  replModule()->scope = mark.scope;
+  for (auto it = impl_->modulesByPath.begin(); it != impl_->modulesByPath.end();) {
+    if (mark.modules.count(it->first)) {
+      ++it;
+      continue;
+    }
+    impl_->discardedModules.push_back(std::move(it->second));
+    it = impl_->modulesByPath.erase(it);
+  }
+  rollback(Mark{mark.functions, mark.nodes});
+  impl_->reported.clear();
+}
+
 int Session::instantiate(ModuleInfo* module, const std::string& name, const std::vector<const Type*>& args, Span at) {
   const FunctionDecl* decl = findFunction(module, name);
   if (!decl) {
     diags_.error("E0301", at, "no definition named '" + name + "' in " + (module->path.empty() ? "the REPL" : module->path));
     return -1;
   }
-  return impl_->instantiateDecl(decl, args, at);
+  return withinInlinedDepth(impl_->instantiateDecl(decl, args, at), at);
 }
 
 int Session::compileExpression(ModuleInfo* scope, const Expr* expr,
                                const std::vector<std::pair<std::string, const Type*>>& params) {
-  return impl_->compileExpression(scope, expr, params);
+  return withinInlinedDepth(impl_->compileExpression(scope, expr, params), expr->span);
+}
+
+// Each definition's tree is at most 8192 levels deep (the parser), but calls stack the bodies
+// of their callees under them: 60 functions of 4000-operator chains calling each other nest
+// 240,000 deep, and the interpreter and the compiler recurse that deep. E0413 beyond
+// ir::kMaxInlinedDepth, before anything evaluates or compiles the entry.
+int Session::withinInlinedDepth(int function, Span at) {
+  if (function < 0) return function;
+  std::map<int, uint64_t> memo;
+  const uint64_t depth = ir::inlinedDepth(program_, function, memo);
+  if (depth <= ir::kMaxInlinedDepth) return function;
+  diags_.error("E0413", at,
+               "specialisation limit exceeded: with its calls expanded this nests " + std::to_string(depth) +
+                   " levels deep (at most " + std::to_string(ir::kMaxInlinedDepth) + ")",
+               "long chains of calls to long expressions multiply: share intermediate results with let");
+  return -1;
 }
 
 void Session::rollback(const Mark& mark) {

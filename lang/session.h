@@ -5,6 +5,7 @@
 #include <deque>
 #include <map>
 #include <memory>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -71,6 +72,17 @@ class Session {
   bool addReplInput(const std::string& text, Expr*& expression, int inputNumber);
   // Imports every exported name of `module` into the REPL scope (`:load`).
   void importIntoRepl(ModuleInfo* module);
+  // The REPL undoes a request that failed (an input, `:load`, one step of `:reload`), so that it
+  // leaves no trace: the names it bound in the REPL scope, the modules it loaded and the IR it
+  // built are dropped again, and retrying it reports the same errors again (diagnostics are
+  // deduplicated within one request only, not across requests).
+  struct ReplMark {
+    size_t functions = 0, nodes = 0;
+    std::map<std::string, Symbol> scope;
+    std::set<std::string> modules;  // canonical paths of the modules loaded before the mark
+  };
+  ReplMark replMark();
+  void replRollback(const ReplMark& mark);
 
   // Instantiates a module-level function for the given argument types (positional, all
   // parameters). Returns the IR function index, or -1 after reporting diagnostics.
@@ -97,6 +109,12 @@ class Session {
   bool signature(const FunctionDecl* decl, std::vector<const Type*>& params, const Type*& result);
 
   const std::string& stdlibDir() const { return stdlibDir_; }
+
+ private:
+  // `function`, or -1 with E0413 when its inlined depth exceeds ir::kMaxInlinedDepth.
+  int withinInlinedDepth(int function, Span at);
+
+ public:
 
   struct Impl;
 

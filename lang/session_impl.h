@@ -18,6 +18,9 @@ struct Session::Impl {
   explicit Impl(Session& s) : session(s) {}
 
   std::map<std::string, std::unique_ptr<ModuleInfo>> modulesByPath;  // canonical path -> module
+  // Modules a failed REPL request loaded: no longer found by path (a retry loads the file
+  // afresh), but kept alive because instances and reported spans may still point into them.
+  std::vector<std::unique_ptr<ModuleInfo>> discardedModules;
   std::vector<std::string> loadingStack;                             // canonical paths
   std::unique_ptr<ModuleInfo> repl;
   std::vector<std::unique_ptr<Module>> replExpressions;  // keeps REPL expression ASTs alive
@@ -50,6 +53,8 @@ struct Session::Impl {
   int compileExpression(ModuleInfo* scope, const Expr* expr,
                         const std::vector<std::pair<std::string, const Type*>>& params);
   const Type* resolveType(const TypeExpr* t, ModuleInfo* module, int depth = 0);
+  // Type aliases being resolved (outermost first): one met again refers to itself.
+  std::vector<const void*> resolvingAliases;
 
   // Reports once per (code, place).
   Diagnostic* error(const std::string& code, Span span, std::string message, std::string help = {});

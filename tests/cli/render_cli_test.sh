@@ -211,4 +211,11 @@ echo "$out" | grep -q "the sampler differs" || fail "sample files of two sampler
 expect_interrupted eval "$tmp/e.log" "$tmp/eval_part.png" "interrupted" \
   "$tex" eval "$src/scenes/marble.tex" --fn marble --size 8192x8192 -o "$tmp/eval_part.png"
 
+# A definition 8002 levels deep (the most the parser allows is 8192) evaluates with the
+# interpreter on TBB's workers too: their default stacks overflowed at about 4600 levels.
+chain=$(printf ' + 1.0%.0s' $(seq 4000))
+echo "export fn f(h: Hit) -> Float = ((h.uv.x$chain)$chain)" > "$tmp/deep.tex"
+expect_exit 0 "eval --interp of a deep definition" "$tex" eval "$tmp/deep.tex" --fn f --size 4x4 --interp -o "$tmp/deep.exr"
+expect_exit 0 "eval of a deep definition" "$tex" eval "$tmp/deep.tex" --fn f --size 4x4 --no-cache -o "$tmp/deep.exr"
+
 [ "$failures" = 0 ] && echo "ok: tex render CLI" || exit 1

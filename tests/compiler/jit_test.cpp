@@ -2,6 +2,8 @@
 // unloading and parallel compiles.
 #include <gtest/gtest.h>
 
+#include <chrono>
+
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -242,6 +244,30 @@ TEST(Jit, ExponentialSpecialisationIsAnErrorNotAnOutOfMemory) {
   options.useCache = false;
   Diagnostics diags;
   EXPECT_EQ(compiler::compile(s.program(), {fn}, options, diags), nullptr);
+  ASSERT_EQ(diags.size(), 1u);
+  EXPECT_EQ(diags.items()[0].code, "E0413");
+}
+
+// Records containing one record twice double with each level: 40 levels are 2^40 words in a
+// type of 41 nodes. The compiler refuses the value (E0413) before LLVM lays the type out (it
+// hung, lowering the type without memoisation).
+TEST(Jit, RecordsSharingStructureAreRefusedBySizeNotLaidOut) {
+  std::string nested = "h.uv.x";
+  for (int i = 0; i < 40; ++i) nested = "d(" + nested + ")";
+  std::string path = "r";
+  for (int i = 0; i < 40; ++i) path += ".a";
+  const std::string text = "fn d(x) = {a: x, b: x}\nexport fn main(h: Hit) -> Float { let r = " + nested + "; " + path + " }\n";
+  Session s;
+  ModuleInfo* m = s.loadSource("dag.tex", text);
+  ASSERT_FALSE(s.diags().hasErrors());
+  int fn = s.instantiate(m, "main", {TypeTable::global().hit()}, Span{});
+  ASSERT_GE(fn, 0);
+  compiler::CompileOptions options;
+  options.useCache = false;
+  Diagnostics diags;
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_EQ(compiler::compile(s.program(), {fn}, options, diags), nullptr);
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(5));
   ASSERT_EQ(diags.size(), 1u);
   EXPECT_EQ(diags.items()[0].code, "E0413");
 }
