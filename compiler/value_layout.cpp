@@ -39,9 +39,14 @@ float bitsFloat(uint32_t u) {
 }
 int lanes(const Type* t, int wavelengths) { return t->kind == TypeKind::Spectrum ? wavelengths : t->fixedLanes(); }
 
+// The material tree rooted at node `index`, sharing what the arena shares: children are nodes
+// appended earlier (docs/abi.md), so a child index not below its parent's is malformed (null),
+// and `built` memoises each node, so add_material(m, m) nested 30 deep is 31 nodes, not 2^30.
 std::shared_ptr<const lang::MaterialNode> materialFromArena(const ClosureArena* arena, int32_t index, int wavelengths,
-                                                            int depth) {
-  if (!arena || index < 0 || index >= arena->count || depth > 64) return nullptr;
+                                                            int32_t parent,
+                                                            std::vector<std::shared_ptr<const lang::MaterialNode>>& built) {
+  if (!arena || index < 0 || index >= arena->count || index >= parent) return nullptr;
+  if (built[size_t(index)]) return built[size_t(index)];
   const ClosureNode& node = arena->nodes[index];
   auto m = std::make_shared<lang::MaterialNode>();
   auto& types = lang::TypeTable::global();
@@ -54,12 +59,13 @@ std::shared_ptr<const lang::MaterialNode> materialFromArena(const ClosureArena* 
   if (!shape) return nullptr;  // a kind this compiler never produces
   m->kind = lang::MaterialNode::Kind(shape->kind);
   m->flags = node.flags;
-  if (shape->children > 0) m->a = materialFromArena(arena, node.a, wavelengths, depth + 1);
-  if (shape->children > 1) m->b = materialFromArena(arena, node.b, wavelengths, depth + 1);
+  if (shape->children > 0) m->a = materialFromArena(arena, node.a, wavelengths, index, built);
+  if (shape->children > 1) m->b = materialFromArena(arena, node.b, wavelengths, index, built);
   if (shape->params > 0) param(node.paramKind, node.params, m->paramType, m->param);
   if (shape->params > 1) param(node.param2Kind, node.params2, m->param2Type, m->param2);
   for (int i = 0; i < shape->scalars; ++i) m->scalars[i] = node.scalars[i];
   if (shape->weight) m->weight = node.weight;
+  built[size_t(index)] = m;
   return m;
 }
 
@@ -87,7 +93,11 @@ static Value unflattenAt(const uint32_t* words, size_t& at, const Type* type, in
     case TypeKind::Bool: v.i = words[at++] != 0; return v;
     case TypeKind::Int:
     case TypeKind::Image: v.i = int32_t(words[at++]); return v;
-    case TypeKind::Material: v.material = materialFromArena(arena, int32_t(words[at++]), wavelengths, 0); return v;
+    case TypeKind::Material: {
+      std::vector<std::shared_ptr<const lang::MaterialNode>> built(arena ? size_t(std::max(arena->count, 0)) : 0);
+      v.material = materialFromArena(arena, int32_t(words[at++]), wavelengths, arena ? arena->count : 0, built);
+      return v;
+    }
     case TypeKind::Record:
     case TypeKind::Lambda: {
       auto fields = std::make_shared<std::vector<Value>>();

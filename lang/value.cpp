@@ -29,15 +29,21 @@ static std::string lanes(const char* prefix, const Value& v, int n) {
   return s + ")";
 }
 
-static std::string formatMaterial(const MaterialNode* m, const WavelengthGroup& group) {
+// `budget`: nodes still to print. A material can share nodes (add_material(m, m) nested 30 deep
+// is 31 nodes that print as 2^30 calls, which hung the REPL), so printing stops after
+// kMaterialPrintBudget nodes and writes "..." for the rest.
+constexpr int kMaterialPrintBudget = 256;
+
+static std::string formatMaterial(const MaterialNode* m, const WavelengthGroup& group, int& budget) {
   const ir::MaterialShape* shape = m ? ir::materialShapeOfKind(uint32_t(m->kind)) : nullptr;
   if (!shape) return "<material>";
+  if (--budget < 0) return "...";
   // A node prints as the call that builds it: children, parameters, scalars, the Mix weight;
   // a roughness of 0 (the default) is left out, another is named; ", varying" marks a
   // wavelength-dependent node.
   std::vector<std::string> parts;
-  if (shape->children > 0) parts.push_back(formatMaterial(m->a.get(), group));
-  if (shape->children > 1) parts.push_back(formatMaterial(m->b.get(), group));
+  if (shape->children > 0) parts.push_back(formatMaterial(m->a.get(), group, budget));
+  if (shape->children > 1) parts.push_back(formatMaterial(m->b.get(), group, budget));
   if (shape->params > 0) parts.push_back(formatValue(m->param, m->paramType, group));
   if (shape->params > 1) parts.push_back(formatValue(m->param2, m->param2Type, group));
   bool roughness = m->kind == MaterialNode::Kind::Dielectric || m->kind == MaterialNode::Kind::Conductor ||
@@ -63,7 +69,10 @@ std::string formatValue(const Value& v, const Type* t, const WavelengthGroup& gr
     case TypeKind::Vec4: return lanes("vec4", v, 4);
     case TypeKind::Color: return lanes("rgb", v, 3);
     case TypeKind::Spectrum: return lanes("spectrum", v, group.count);
-    case TypeKind::Material: return formatMaterial(v.material.get(), group);
+    case TypeKind::Material: {
+      int budget = kMaterialPrintBudget;
+      return formatMaterial(v.material.get(), group, budget);
+    }
     case TypeKind::Image: {
       // The file name and size: the handle is process-specific and the full path machine-specific.
       const LoadedImage* image = ImageTable::global().get(v.i);

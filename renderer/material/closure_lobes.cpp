@@ -131,8 +131,14 @@ struct Walker {
            kind == compiler::ClosureKind::Add;
   }
 
+  // Nodes may be shared (`add_material(m, m)` refers to m twice), so a tree of 64 nodes can
+  // stand for 2^63 paths through it: the walk visits at most kVisitBudget nodes, far more than
+  // any material that fits the Bsdf's lobes needs, and fails beyond (it hung at 2^30).
+  static constexpr int kVisitBudget = 4 * kArenaCapacity;
+  int visits = 0;
+
   void walk(int32_t index, const Spectrum& weight, int depth) {
-    if (index < 0 || index >= nodeCount || depth > kArenaCapacity) {
+    if (index < 0 || index >= nodeCount || depth > kArenaCapacity || ++visits > kVisitBudget) {
       result.ok = false;
       return;
     }

@@ -3,6 +3,8 @@
 // down the tree, layers put their base under the Bsdf's coat, and bad trees fail cleanly.
 #include <gtest/gtest.h>
 
+#include <chrono>
+
 
 #include "renderer/material/closure_lobes.h"
 #include "renderer/material/tex_binding.h"
@@ -116,6 +118,23 @@ TEST(ClosureLobes, EveryKindMapsToItsLobe) {
   EXPECT_FLOAT_EQ(s.bsdf.lobe(0).weight.v[0], 0.25f);  // 0.5 albedo x 0.5 scale
   EXPECT_FLOAT_EQ(s.emission.v[0], 1.0f);               // 2.0 x 0.5
   EXPECT_TRUE(s.result.sawEmission);
+}
+
+// A closure tree shares nodes (add_material(m, m) refers to m twice): 30 such levels are 31
+// nodes but 2^30 paths, which the walk had followed one by one (a render hung at its first
+// hit). It gives up after a budget of visits, as a counted failure.
+TEST(ClosureLobes, SharedSubtreesAreWalkedWithinABudget) {
+  const Compiled c = compileEntries(
+      "export fn doubling(h: Hit) -> Material = fold(30, diffuse(spectrum(0.5)), |m, i| add_material(m, m))\n"
+      "export fn twice(h: Hit) -> Material { let m = diffuse(spectrum(0.25)); add_material(m, m) }\n",
+      {"doubling", "twice"});
+  ASSERT_EQ(c.bindings.bindings.size(), 2u);
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_FALSE(shade(c.bindings.bindings[0]).result.ok);
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(1));
+  const Shaded s = shade(c.bindings.bindings[1]);  // sharing itself is fine
+  ASSERT_TRUE(s.result.ok);
+  EXPECT_EQ(s.bsdf.lobeCount(), 2);
 }
 
 // A coat of a wavelength-dependent IOR reflects each lane's own Fresnel reflectance (it had
