@@ -2,11 +2,13 @@
 // is a terminal; plain line reading (no prompts) when it is piped.
 #include <editline/readline.h>
 #include <fcntl.h>
+#include <langinfo.h>
 #include <poll.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
+#include <clocale>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
@@ -76,7 +78,7 @@ void drainWakePipe() {
   }
 }
 
-int readChar(FILE* in) {
+int readByte(FILE* in) {
   int fd = fileno(in);
   while (true) {
     if (gInterrupted) return EOF;
@@ -96,6 +98,24 @@ int readChar(FILE* in) {
     if (n < 0 && errno == EINTR) continue;
     return EOF;
   }
+}
+
+// libedit's getc hook returns characters, not bytes (it decodes nothing itself when the hook is
+// set): a UTF-8 sequence is read whole and returned as its code point (U+FFFD if malformed), so
+// `é` arrives as one character instead of two Latin-1 ones.
+int readChar(FILE* in) {
+  const int lead = readByte(in);
+  if (lead == EOF || lead < 0x80) return lead;
+  const int length = lead >= 0xF0 ? 4 : lead >= 0xE0 ? 3 : lead >= 0xC0 ? 2 : 0;
+  if (length == 0 || lead >= 0xF8) return 0xFFFD;  // a stray continuation byte or an invalid lead
+  int codePoint = lead & (0x3F >> (length - 1));
+  for (int i = 1; i < length; ++i) {
+    const int next = readByte(in);
+    if (next == EOF) return EOF;
+    if ((next & 0xC0) != 0x80) return 0xFFFD;
+    codePoint = (codePoint << 6) | (next & 0x3F);
+  }
+  return codePoint;
 }
 
 std::string trim(const std::string& s) {
@@ -483,6 +503,11 @@ int runRepl(const Args& args) {
   bool interactive = isatty(STDIN_FILENO) && isatty(STDOUT_FILENO);
   // Set before libedit initialises (read_history or the first readline do that).
   if (interactive) {
+    // libedit decodes the typed bytes with the locale's character set, and in the C locale it
+    // dropped every non-ASCII character (`:load é.tex` read `:load .tex`). Source text is UTF-8
+    // (docs/language.md): use the environment's locale if it is UTF-8, else C.UTF-8.
+    const char* locale = std::setlocale(LC_CTYPE, "");
+    if (!locale || std::string(nl_langinfo(CODESET)) != "UTF-8") std::setlocale(LC_CTYPE, "C.UTF-8");
     rl_getc_function = readChar;
     if (pipe2(gWake, O_NONBLOCK | O_CLOEXEC) != 0) gWake[0] = gWake[1] = -1;
   }

@@ -141,6 +141,7 @@ has "hit in a definition: hint" "REPL expressions only"
 # 6. Ctrl-C at the continuation prompt (and at the main prompt) abandons the unfinished input;
 #    the REPL goes on. Needs a terminal: a python3 pty.
 if command -v python3 > /dev/null; then
+  echo 'export fn one() -> Int = 1' > "$tmp/é.tex"
   HOME=$tmp timeout 30 python3 - "$tex" > "$tmp/ctrlc.out" 2>&1 << 'PY'
 import os, pty, select, signal, sys, time
 pid, fd = pty.fork()
@@ -174,6 +175,10 @@ os.write(fd, b"40 + 2\r"); steps.append(expect(b"42 : Int") and expect(b"tex> ")
 os.write(fd, b"7 *"); time.sleep(0.2)
 os.write(fd, b"\x03"); steps.append(expect(b"tex> "))  # Ctrl-C with part of a line typed
 os.write(fd, b"5\r"); steps.append(expect(b"5 : Int"))
+# Non-ASCII input arrives whole (libedit's getc hook returned bytes, which it took for Latin-1
+# characters; before the hook, the C locale dropped them): a file named with an accent loads.
+os.write(fd, (":load " + os.environ["HOME"] + "/\u00e9.tex\r").encode()); steps.append(expect(b"loaded"))
+os.write(fd, b"one()\r"); steps.append(expect(b"1 : Int"))
 os.write(fd, b":quit\r")
 status, end = None, time.time() + 10
 while status is None and time.time() < end:
