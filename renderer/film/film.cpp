@@ -86,10 +86,14 @@ inline void addFixed4(int64_t* s, double v0, double v1, double v2, double v3) {
   addSaturating(s[2], toFixed(v2)), addSaturating(s[3], toFixed(v3));
 }
 
-// Layout of one pixel's sums (colour films; a scalar film keeps kSumA, kSumA2, then one a c and
-// one a c^2 at kScalarAC, kScalarAC2).
-enum : int { kSumA = 0, kSumA2 = 1, kSumAC = 2, kSumAC2 = 5, kSumBins = 8 };
-enum : int { kScalarAC = 2, kScalarAC2 = 3, kScalarStride = 4 };
+// Layout of one pixel's sums. Colour films: a, a^2, a c (3), a^2 c^2 (3) and, with a filter
+// other than box, a^2 c (3); then the spectral bins. A box film's a is the record's weight,
+// which the renderer and the demo set to 1: then sum a^2 c = (sum a^2 / sum a) sum a c exactly,
+// so it is not stored and a pixel stays one cache line. Scalar films: a, a^2, a c, a^2 c^2
+// [, a^2 c].
+enum : int { kSumA = 0, kSumA2 = 1, kSumAC = 2, kSumA2C2 = 5, kSumA2C = 8 };
+enum : int { kBoxSums = 8, kFilterSums = 11 };
+enum : int { kScalarAC = 2, kScalarA2C2 = 3, kScalarA2C = 4, kScalarStride = 4, kScalarFilterStride = 5 };
 
 constexpr size_t kHugePage = size_t(1) << 21;
 
@@ -117,7 +121,9 @@ void FilmMemory::deallocate(void* p, size_t bytes) {
 FilmAccumulator::FilmAccumulator(const FilmSettings& settings)
     : settings_(settings), filter_(settings.filter), scalar_(settings.valueKind == ValueKind::Scalar) {
   settings_.spectralBins = scalar_ ? 0 : std::max(0, settings.spectralBins);
-  stride_ = scalar_ ? kScalarStride : kSumBins + settings_.spectralBins;
+  box_ = settings_.filter == FilterKind::Box;
+  binsAt_ = box_ ? kBoxSums : kFilterSums;
+  stride_ = scalar_ ? (box_ ? kScalarStride : kScalarFilterStride) : binsAt_ + settings_.spectralBins;
   sums_.assign(size_t(std::max(0, settings_.width)) * std::max(0, settings_.height) * stride_, 0);
   binScratch_.assign(settings_.spectralBins, 0.0f);
 }
@@ -136,15 +142,22 @@ void FilmAccumulator::clear() { std::fill(sums_.begin(), sums_.end(), 0); }
 inline void FilmAccumulator::splat(int px, int py, float a, const Colour& colour, const float* bins) {
   int64_t* s = &sums_[(size_t(py) * settings_.width + px) * stride_];
   const double a64 = a, ac0 = a64 * colour.c[0], ac1 = a64 * colour.c[1], ac2 = a64 * colour.c[2];
-  static_assert(kSumA2 == kSumA + 1 && kSumAC == kSumA + 2 && kSumAC2 == kSumA + 5, "two groups of four sums");
+  static_assert(kSumA2 == kSumA + 1 && kSumAC == kSumA + 2 && kSumA2C2 == kSumA + 5, "two groups of four sums");
   addFixed4(s + kSumA, a64, a64 * a, ac0, ac1);
-  addFixed4(s + kSumA + 4, ac2, ac0 * colour.c[0], ac1 * colour.c[1], ac2 * colour.c[2]);
-  for (int b = 0; b < settings_.spectralBins; ++b) addSaturating(s[kSumBins + b], toFixed(double(a) * bins[b]));
+  addFixed4(s + kSumA + 4, ac2, ac0 * ac0, ac1 * ac1, ac2 * ac2);
+  if (!box_) {
+    addSaturating(s[kSumA2C], toFixed(a64 * ac0));
+    addSaturating(s[kSumA2C + 1], toFixed(a64 * ac1));
+    addSaturating(s[kSumA2C + 2], toFixed(a64 * ac2));
+  }
+  for (int b = 0; b < settings_.spectralBins; ++b) addSaturating(s[binsAt_ + b], toFixed(double(a) * bins[b]));
 }
 
 inline void FilmAccumulator::splatScalar(int px, int py, float a, float value) {
   const double ac = double(a) * value;
-  addFixed4(&sums_[(size_t(py) * settings_.width + px) * kScalarStride], a, double(a) * a, ac, ac * value);
+  int64_t* s = &sums_[(size_t(py) * settings_.width + px) * stride_];
+  addFixed4(s, a, double(a) * a, ac, ac * ac);
+  if (!box_) addSaturating(s[kScalarA2C], toFixed(double(a) * ac));
 }
 
 // The pixels whose filter footprint covers film position (x, y) in pixel units: columns
@@ -259,7 +272,7 @@ void FilmAccumulator::addScalarBox(const SampleRecord* records, size_t count) {
       if (p == kOffFilm) continue;
       const SampleRecord& r = batch[i];
       const double a = r.weight, ac = a * r.values[0];
-      addFixed4(sums + size_t(p) * kScalarStride, a, a * a, ac, ac * r.values[0]);
+      addFixed4(sums + size_t(p) * kScalarStride, a, a * a, ac, ac * ac);
     }
   }
 }
@@ -363,15 +376,39 @@ DevelopedImage FilmAccumulator::develop(FilmEstimator estimator, uint64_t sample
     const double nEff = sumA2 > 0 ? sumA * sumA / sumA2 : 0.0;
     image.unstablePixels += sumA2 > 0 && nEff < 0.5;  // (sumA2 0: weights too small for the fixed point)
     for (int k = 0; k < 3; ++k) {
-      const int64_t sumAC = scalar_ ? s[kScalarAC] : s[kSumAC + k], sumAC2 = scalar_ ? s[kScalarAC2] : s[kSumAC2 + k];
-      const double mean = fromFixed(sumAC) / sumA;
-      const double secondMoment = fromFixed(sumAC2) / sumA;
-      const double value = estimator == FilmEstimator::Weighted ? mean : fromFixed(sumAC) * densityScale;
+      const double sumAC = fromFixed(scalar_ ? s[kScalarAC] : s[kSumAC + k]);
+      const double sumA2C2 = fromFixed(scalar_ ? s[kScalarA2C2] : s[kSumA2C2 + k]);
+      // sum a^2 c: stored for filters; a box film's weights are 1 (see the layout above).
+      const double sumA2C = box_ ? sumAC * (sumA2 / sumA) : fromFixed(scalar_ ? s[kScalarA2C] : s[kSumA2C + k]);
+      const double mean = sumAC / sumA;
+      double value, variance;
+      if (estimator == FilmEstimator::Weighted) {
+        // The ratio estimator's variance, sum a^2 (c - mean)^2 / (sum a)^2, with the small-sample
+        // factor n / (n - 1) at n = n_eff: the filter weights correlate with the colours, which
+        // the earlier (sum a c^2 / sum a - mean^2) / (n_eff - 1) ignored (tent and Gaussian
+        // variances were 0.5-0.6 of the pixels' spread, Mitchell's up to 1.5 of it). One
+        // sample (n_eff within rounding of 1) has no variance estimate: 0, as before.
+        // Below 1024 fixed-point units of sum a^2 (a pixel reached only by the thin edges of
+        // filters: a single weight under 0.008) the sums' rounding is no longer small against
+        // the spread, and n_eff is unreliable: no estimate either (a single such sample got
+        // variances up to 1744 on a value of 26).
+        value = mean;
+        const double spread = std::max(0.0, sumA2C2 - 2.0 * mean * sumA2C + mean * mean * sumA2) / (sumA * sumA);
+        const bool estimable = nEff > 1.0 + 1e-3 && s[kSumA2] >= 1024;
+        variance = estimable ? spread * nEff / (nEff - 1.0) : 0.0;
+      } else {
+        // Density: value = D sum a c with D = W H / N over the N samples of the whole film, each
+        // landing anywhere: variance D^2 (sum (a c)^2 - (sum a c)^2 / N).
+        value = sumAC * densityScale;
+        variance = samples > 0 ? densityScale * densityScale *
+                                     std::max(0.0, sumA2C2 - sumAC * sumAC / double(samples))
+                               : 0.0;
+      }
       image.rgb[p * 3 + k] = float(value);
-      image.variance[p * 3 + k] = nEff > 1.0 ? float(std::max(0.0, secondMoment - mean * mean) / (nEff - 1.0)) : 0.0f;
+      image.variance[p * 3 + k] = float(variance);
     }
     for (int b = 0; b < image.spectralBins; ++b) {
-      const double sum = fromFixed(s[kSumBins + b]);
+      const double sum = fromFixed(s[binsAt_ + b]);
       image.spectral[p * image.spectralBins + b] = float(estimator == FilmEstimator::Weighted ? sum / sumA : sum * densityScale);
     }
   }

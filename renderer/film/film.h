@@ -4,12 +4,13 @@
 // thread count, or on how the index range was split (films merge by adding integers).
 //
 // Per pixel it keeps, with a = filter(x - centre) * record weight and c the record's colour
-// (linear sRGB, or grey for scalar records): sum a, sum a^2, sum a c, sum a c^2 per colour
-// channel, and sum a s_b per spectral bin. A scalar film keeps one grey channel (4 sums per
-// pixel, 32 bytes) instead of three equal ones. Developing gives
+// (linear sRGB, or grey for scalar records): sum a, sum a^2, and per colour channel sum a c,
+// sum a^2 c^2 and (filters other than box) sum a^2 c; and sum a s_b per spectral bin. A scalar
+// film keeps one grey channel instead of three equal ones. Developing gives
 //   colour    = sum a c / sum a                          (the weighted estimator), or
-//             = sum a c * (W H / N)                      (the density estimator, N samples),
-//   variance  = (sum a c^2 / sum a - colour^2) / (n_eff - 1),  n_eff = (sum a)^2 / sum a^2,
+//             = sum a c * D, D = W H / N                 (the density estimator, N samples),
+//   variance  = sum a^2 (c - colour)^2 / (sum a)^2 * n_eff / (n_eff - 1),  n_eff = (sum a)^2 / sum a^2
+//             (weighted: the ratio estimator's), or D^2 (sum a^2 c^2 - (sum a c)^2 / N) (density),
 // an estimate of the variance of the pixel value (it treats samples as independent, so it
 // overestimates the error of QMC samples).
 #pragma once
@@ -110,8 +111,10 @@ class FilmAccumulator {
 
   FilmSettings settings_;
   Filter filter_;
-  bool scalar_;  // one grey channel: sums a, a^2, a c, a c^2
-  int stride_;   // int64 sums per pixel: scalar 4, else 2 + 3 + 3 + bins
+  bool scalar_;  // one grey channel: sums a, a^2, a c, a^2 c^2 [, a^2 c]
+  bool box_;     // box filter: sum a^2 c is not stored (record weights are 1)
+  int binsAt_;   // where the spectral bins' sums start: 8 (box) or 11
+  int stride_;   // int64 sums per pixel: scalar 4 (box) or 5, else binsAt_ + bins
   FilmSums sums_;
   std::vector<float> binScratch_;
   std::vector<uint32_t> pixelScratch_;  // the scalar box path's pixel offsets of one batch
