@@ -53,6 +53,16 @@ std::string compareImages(const ExrImage& a, const ExrImage& b, ImageComparison&
   const size_t pixels = size_t(a.width) * a.height;
   double sum = 0, relative = 0, zSquares = 0;
   uint64_t outliers = 0;
+  const bool anyVariance = va[0] || va[1] || va[2] || vb[0] || vb[1] || vb[2];
+  const auto varianceOf = [&](const ExrChannel* const* v, int k, size_t p) { return v[k] ? double(v[k]->values[p]) : 0.0; };
+  // A grey pixel: the three channels equal in value and variance in both images.
+  const auto grey = [&](size_t p) {
+    for (int k = 1; k < 3; ++k)
+      if (ca[k]->values[p] != ca[0]->values[p] || cb[k]->values[p] != cb[0]->values[p] ||
+          varianceOf(va, k, p) != varianceOf(va, 0, p) || varianceOf(vb, k, p) != varianceOf(vb, 0, p))
+        return false;
+    return true;
+  };
   for (int k = 0; k < 3; ++k) {
     double channelSum = 0;
     for (size_t p = 0; p < pixels; ++p) {
@@ -61,12 +71,18 @@ std::string compareImages(const ExrImage& a, const ExrImage& b, ImageComparison&
       channelSum += d * d;
       relative += d * d / (y * y + 0.01);
       if (std::fabs(d) > out.maxAbsDifference || std::isnan(d)) out.maxAbsDifference = std::fabs(d);
-      const double variance = (va[k] ? va[k]->values[p] : 0.0) + (vb[k] ? vb[k]->values[p] : 0.0);
-      if (variance > 0) {
+      if (!anyVariance || (k > 0 && grey(p))) continue;
+      ++out.zChannels;
+      const double variance = varianceOf(va, k, p) + varianceOf(vb, k, p);
+      if (!std::isfinite(d) || !std::isfinite(variance)) {
+        ++out.zNonFinite;  // a NaN had passed as z = NaN, never an outlier
+      } else if (variance > 0) {
         const double z = d / std::sqrt(variance);
         zSquares += z * z;
         outliers += std::fabs(z) > 3.0;
         out.zCount++;
+      } else if (d != 0.0) {
+        ++out.zUntestable;  // no noise estimate in either image, yet they differ
       }
     }
     out.rmseChannel[k] = pixels > 0 ? std::sqrt(channelSum / pixels) : 0.0;
@@ -75,11 +91,23 @@ std::string compareImages(const ExrImage& a, const ExrImage& b, ImageComparison&
   const double n = double(pixels) * 3;
   out.rmse = n > 0 ? std::sqrt(sum / n) : 0.0;
   out.relativeMse = n > 0 ? relative / n : 0.0;
-  out.zTested = out.zCount > 0;
+  out.zTested = out.zCount > 0 || out.zNonFinite > 0;
   if (out.zTested) {
-    out.zMeanSquare = zSquares / double(out.zCount);
-    out.zOutlierFraction = double(outliers) / double(out.zCount);
-    out.zPass = out.zOutlierFraction <= 0.01;
+    out.zMeanSquare = out.zCount > 0 ? zSquares / double(out.zCount) : 0.0;
+    out.zOutlierFraction = out.zCount > 0 ? double(outliers) / double(out.zCount) : 0.0;
+    const double tested = double(out.zCount);
+    const double allowedOutliers = 0.01 * tested + 3.0 * std::sqrt(0.01 * 0.99 * tested);
+    if (out.zNonFinite > 0) {
+      out.zVerdict = std::to_string(out.zNonFinite) + " pixel channels are NaN or infinite";
+    } else if (double(out.zUntestable) > 0.01 * double(out.zChannels)) {
+      out.zVerdict = "cannot decide: " + std::to_string(out.zUntestable) +
+                     " pixel channels differ without a variance in either image (single-sample pixels?)";
+    } else if (out.zCount < 30) {
+      out.zVerdict = "cannot decide: only " + std::to_string(out.zCount) + " pixel channels have a variance";
+    } else if (double(outliers) > allowedOutliers) {
+      out.zVerdict = "NOT consistent within noise";
+    }
+    out.zPass = out.zVerdict.empty();
   }
   return "";
 }
@@ -93,7 +121,9 @@ std::string comparisonToJson(const ImageComparison& c, const std::string& pathA,
                   ", \"max_abs_difference\": " + jsonNumber(c.maxAbsDifference);
   if (c.zTested) {
     j += ", \"ztest\": {\"count\": " + std::to_string(c.zCount) + ", \"mean_square\": " + jsonNumber(c.zMeanSquare) +
-         ", \"outlier_fraction\": " + jsonNumber(c.zOutlierFraction) + ", \"pass\": " + (c.zPass ? "true" : "false") + "}";
+         ", \"outlier_fraction\": " + jsonNumber(c.zOutlierFraction) + ", \"non_finite\": " + std::to_string(c.zNonFinite) +
+         ", \"untestable\": " + std::to_string(c.zUntestable) + ", \"pass\": " + (c.zPass ? "true" : "false") +
+         (c.zPass ? std::string() : ", \"verdict\": " + jsonString(c.zVerdict)) + "}";
   }
   return j + "}";
 }

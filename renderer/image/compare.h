@@ -15,12 +15,20 @@ struct ImageComparison {
   double relativeMse = 0;   // mean of (a - b)^2 / (b^2 + 0.01): B is the reference
   double maxAbsDifference = 0;
   // Z-test over pixel channels with a variance in A or B (variance.R/G/B channels, the
-  // variance of each pixel estimate): z = (a - b) / sqrt(varA + varB).
+  // variance of each pixel estimate): z = (a - b) / sqrt(varA + varB). A grey pixel (R = G = B
+  // and equal variances in both images) is tested once, not three times.
   bool zTested = false;
   uint64_t zCount = 0;            // channels tested (with positive variance)
   double zMeanSquare = 0;         // about 1 if the variances are right and the means agree
   double zOutlierFraction = 0;    // fraction with |z| > 3; 0.0027 expected for Gaussian noise
-  bool zPass = false;             // zOutlierFraction <= 0.01
+  uint64_t zNonFinite = 0;        // channels with a NaN or infinite value or variance: a failure
+  uint64_t zUntestable = 0;       // channels that differ but have no variance in either image
+  uint64_t zChannels = 0;         // all channels looked at (after merging grey pixels)
+  // Passes when no channel is non-finite, at most 1 % of the differing channels have no
+  // variance, at least 30 channels were tested, and the outliers are at most
+  // 1 % + 3 sigma of a binomial at 1 % (so that small images are not failed by one pixel).
+  bool zPass = false;
+  std::string zVerdict;           // why it failed or could not decide ("" when it passed)
 };
 
 // Compares two images of the same size; error message if they differ in size or lack RGB.
