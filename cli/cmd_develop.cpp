@@ -1,6 +1,8 @@
 // `tex develop`: sample files to an image at any resolution and filter.
 #include <algorithm>
 #include <chrono>
+#include <new>
+#include <optional>
 #include <cmath>
 #include <cstdio>
 #include <ctime>
@@ -60,6 +62,7 @@ int runDevelop(const Args& args) {
   std::string output, thumbnail;
   FilmSettings settings;
   settings.width = settings.height = 0;  // 0: from the files, else 512x512
+  bool resolutionGiven = false;
   FilmEstimator estimator = FilmEstimator::Weighted;
   bool half = false, variance = true, quiet = false;
   for (size_t i = 0; i < args.size(); ++i) {
@@ -70,6 +73,7 @@ int runDevelop(const Args& args) {
       if (!value(output)) return usage("-o needs a path");
     } else if (a == "--res") {
       if (!value(v) || !parseResolution(v, settings.width, settings.height)) return usage("--res needs WxH, e.g. 640x480");
+      resolutionGiven = true;
     } else if (a == "--filter") {
       if (!value(v)) return usage("--filter needs a name");
       const auto kind = parseFilterKind(v);
@@ -102,6 +106,28 @@ int runDevelop(const Args& args) {
   if (const std::string problem = outputDirectoryProblem(output); !problem.empty()) {
     std::fprintf(stderr, "tex develop: error: %s\n", problem.c_str());
     return 1;
+  }
+  // Every output is checked before any work, and none may be another output or an input: a
+  // thumbnail named like -o replaced the image, and -o named like an input overwrote it.
+  if (!thumbnail.empty()) {
+    const std::string thumbExtension = std::filesystem::path(thumbnail).extension().string();
+    if (thumbExtension != ".exr" && thumbExtension != ".png")
+      return usage("--thumbnail must end in .exr or .png, got '" + thumbnail + "'");
+    if (const std::string problem = outputDirectoryProblem(thumbnail); !problem.empty()) {
+      std::fprintf(stderr, "tex develop: error: %s\n", problem.c_str());
+      return 1;
+    }
+  }
+  {
+    std::error_code ec;
+    const auto same = [&](const std::string& x, const std::string& y) {
+      return std::filesystem::weakly_canonical(x, ec) == std::filesystem::weakly_canonical(y, ec);
+    };
+    if (!thumbnail.empty() && same(thumbnail, output)) return usage("--thumbnail and -o name the same file");
+    for (const std::string& input : inputs) {
+      if (same(input, output)) return usage("-o names the input " + input + " (it would be overwritten)");
+      if (!thumbnail.empty() && same(input, thumbnail)) return usage("--thumbnail names the input " + input);
+    }
   }
 
   // Headers first: the files must describe the same render and disjoint index ranges.
@@ -147,9 +173,23 @@ int runDevelop(const Args& args) {
     settings.height = recorded ? int(h.imageHeight) : 512;
   }
   settings.valueKind = infos[0].header.valueKind;
-  if (settings.valueKind == ValueKind::Scalar) settings.spectralBins = 0;
+  if (settings.valueKind == ValueKind::Scalar && settings.spectralBins > 0) {
+    if (!quiet)
+      std::fprintf(stderr, "tex develop: warning: %s holds scalar values, not spectra: --spectral-bins is ignored\n",
+                   inputs[0].c_str());
+    settings.spectralBins = 0;
+  }
 
-  FilmAccumulator film(settings);
+  std::optional<FilmAccumulator> filmStorage;
+  try {
+    filmStorage.emplace(settings);
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "tex develop: error: a %dx%d film does not fit in memory (%s; give a smaller --res)\n",
+                 settings.width, settings.height,
+                 resolutionGiven ? "the --res given" : ("the size " + inputs[0] + " records").c_str());
+    return 1;
+  }
+  FilmAccumulator& film = *filmStorage;
   uint64_t records = 0;
   for (size_t k = 0; k < inputs.size(); ++k) {
     SampleFileInfo info;
@@ -172,6 +212,13 @@ int runDevelop(const Args& args) {
   if (image.unstablePixels > 0)
     std::fprintf(stderr, "tex develop: warning: in %llu pixels the filter's weights nearly cancel (too few samples per pixel for its negative lobes): their values are unreliable\n",
                  (unsigned long long)image.unstablePixels);
+  // Developing finer than the samples (1 spp at 4x the resolution) leaves pixels without any
+  // sample: black, which is no estimate of anything.
+  uint64_t emptyPixels = 0;
+  for (float w : image.weightSum) emptyPixels += !(w != 0.0f);
+  if (!quiet && image.weightSum.size() > 0 && double(emptyPixels) > 0.01 * double(image.weightSum.size()))
+    std::fprintf(stderr, "tex develop: warning: %llu of %zu pixels got no sample (the resolution is finer than the samples; a wider filter or a smaller --res fills them)\n",
+                 (unsigned long long)emptyPixels, image.weightSum.size());
   if (image.saturatedPixels > 0)
     std::fprintf(stderr, "tex develop: warning: %llu pixels saturated the film (values beyond about 5e11 per pixel, summed over its samples): their values and variances are wrong\n",
                  (unsigned long long)image.saturatedPixels);
@@ -196,8 +243,18 @@ int runDevelop(const Args& args) {
   if (png) {
     error = writeRgbImage(output, image.rgbImage());
   } else {
-    error = writeExr(output, image.toExr(variance, settings.spectralBins > 0, metadata),
-                     half ? ExrPixelType::Half : ExrPixelType::Float);
+    const ExrImage exr = image.toExr(variance, settings.spectralBins > 0, metadata);
+    if (half) {
+      // Half floats end at 65504: larger values (bright pixels, and variances sooner) become
+      // infinity, which tex compare then cannot test. Said, not silent.
+      uint64_t overflowing = 0;
+      for (const ExrChannel& c : exr.channels)
+        for (float v : c.values) overflowing += std::isfinite(v) && std::fabs(v) > 65504.0f;
+      if (overflowing > 0)
+        std::fprintf(stderr, "tex develop: warning: %llu channel values exceed the half-float range (65504) and are written as infinity; drop --half to keep them\n",
+                     (unsigned long long)overflowing);
+    }
+    error = writeExr(output, exr, half ? ExrPixelType::Half : ExrPixelType::Float);
   }
   if (!error.empty()) {
     std::fprintf(stderr, "tex develop: error: %s\n", error.c_str());

@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <cstdio>
 #include <exception>
 #include <fstream>
@@ -65,7 +66,17 @@ std::string writePng(const std::string& path, const RgbImage& image) {
   return "";
 }
 
+// Readers open only regular files: opening a FIFO blocks until a writer appears (tex develop and
+// tex compare hung on one), and a directory or device is no image either.
+static std::string notARegularFile(const std::string& path) {
+  std::error_code ec;
+  const auto status = std::filesystem::status(path, ec);
+  if (ec || !std::filesystem::exists(status)) return "";  // the reader reports a missing file itself
+  return std::filesystem::is_regular_file(status) ? "" : path + ": not a regular file";
+}
+
 std::string readPng(const std::string& path, RgbImage& out) {
+  if (std::string e = notARegularFile(path); !e.empty()) return e;
   int width = 0, height = 0, channelsInFile = 0;
   unsigned char* data = stbi_load(path.c_str(), &width, &height, &channelsInFile, 3);
   if (data == nullptr) {
@@ -133,6 +144,7 @@ std::string checkRadianceHdrData(const std::vector<unsigned char>& bytes) {
 
 // Radiance RGBE (.hdr), as HDR environment maps are commonly shipped: linear floats.
 std::string readRadianceHdr(const std::string& path, RgbImage& out) {
+  if (std::string e = notARegularFile(path); !e.empty()) return e;
   if (!stbi_is_hdr(path.c_str())) {
     const char* reason = stbi_failure_reason();
     return path + ": not a Radiance HDR file" + (reason ? std::string(" (") + reason + ")" : std::string());
@@ -220,6 +232,7 @@ std::string writeExr(const std::string& path, const ExrImage& image, ExrPixelTyp
 }
 
 std::string readExr(const std::string& path, ExrImage& out) {
+  if (std::string e = notARegularFile(path); !e.empty()) return e;
   try {
     Imf::InputFile file(path.c_str());
     const Imf::Header& header = file.header();

@@ -2,6 +2,8 @@
 
 #include <zstd.h>
 
+#include <filesystem>
+
 #include <algorithm>
 #include <bit>
 #include <cstring>
@@ -287,6 +289,11 @@ std::string readSampleFileInfo(const std::string& path, SampleFileInfo& info) {
 std::string readSampleFile(const std::string& path, SampleFileInfo& info,
                            const std::function<void(runtime::IndexRange, std::span<const SampleRecord>)>& onChunk) {
   info = SampleFileInfo{};
+  // Only regular files: fopen of a FIFO blocks until a writer appears (develop hung on one).
+  std::error_code ec;
+  const auto status = std::filesystem::status(path, ec);
+  if (!ec && std::filesystem::exists(status) && !std::filesystem::is_regular_file(status))
+    return path + ": not a regular file";
   std::unique_ptr<std::FILE, FileCloser> file(std::fopen(path.c_str(), "rb"));
   if (!file) return path + ": cannot open sample file: " + std::strerror(errno);
   std::FILE* f = file.get();
@@ -345,6 +352,10 @@ std::string readSampleFile(const std::string& path, SampleFileInfo& info,
     }
     const uint8_t* rawData = stored.data();
     if (info.header.compression == SampleCompression::Zstd && rawBytes > 0) {
+      // The frame records its content size: a header claiming 2^24 records in a tiny payload
+      // must not allocate 1.3 GB before the payload is found corrupt.
+      const unsigned long long frameBytes = ZSTD_getFrameContentSize(stored.data(), storedBytes);
+      if (frameBytes != rawBytes) return where + ": corrupt compressed payload";
       shuffled.resize(rawBytes);
       const size_t size = ZSTD_decompress(shuffled.data(), rawBytes, stored.data(), storedBytes);
       if (ZSTD_isError(size) || size != rawBytes) return where + ": corrupt compressed payload";

@@ -211,6 +211,19 @@ echo "$out" | grep -q "the sampler differs" || fail "sample files of two sampler
 expect_interrupted eval "$tmp/e.log" "$tmp/eval_part.png" "interrupted" \
   "$tex" eval "$src/scenes/marble.tex" --fn marble --size 8192x8192 -o "$tmp/eval_part.png"
 
+# develop: outputs may not collide with each other or with an input (a thumbnail named like -o
+# replaced the image; -o named like the input overwrote the sample file); a bad thumbnail path is
+# refused before the work; a FIFO is refused at once (develop and compare hung on one).
+expect_exit 2 "develop thumbnail = -o" "$tex" develop "$tmp/r40.tsp" -o "$tmp/same.exr" --thumbnail "$tmp/same.exr"
+cp "$tmp/r40.tsp" "$tmp/samples.exr"  # a sample file named .exr, as develop's output may be
+expect_exit 2 "develop -o = input" "$tex" develop "$tmp/samples.exr" -o "$tmp/samples.exr"
+cmp -s "$tmp/r40.tsp" "$tmp/samples.exr" || fail "develop -o = input overwrote the sample file"
+expect_exit 2 "develop thumbnail .jpg" "$tex" develop "$tmp/r40.tsp" -o "$tmp/thumbless.exr" --thumbnail "$tmp/t.jpg"
+[ -e "$tmp/thumbless.exr" ] && fail "develop wrote its image before refusing the thumbnail path"
+mkfifo "$tmp/fifo"
+expect_exit 1 "develop of a FIFO" timeout 10 "$tex" develop "$tmp/fifo" -o "$tmp/f.exr"
+expect_exit 1 "compare of a FIFO" timeout 10 "$tex" compare "$tmp/fifo" "$tmp/d40.exr"
+
 # A definition 8002 levels deep (the most the parser allows is 8192) evaluates with the
 # interpreter on TBB's workers too: their default stacks overflowed at about 4600 levels.
 chain=$(printf ' + 1.0%.0s' $(seq 4000))

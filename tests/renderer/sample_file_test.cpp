@@ -8,6 +8,9 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <string>
+
+#include <sys/stat.h>
 
 #include "renderer/io/sample_file.h"
 #include "renderer/sampling/pcg.h"
@@ -16,6 +19,15 @@ namespace tex {
 namespace {
 
 using runtime::IndexRange;
+
+// The process's peak resident memory (Linux /proc/self/status VmHWM), in kB.
+long peakResidentKb() {
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  while (std::getline(status, line))
+    if (line.rfind("VmHWM:", 0) == 0) return std::stol(line.substr(6));
+  return 0;
+}
 
 std::string tempPath(const std::string& name) {
   return (std::filesystem::temp_directory_path() / ("tex_sample_file_" + name)).string();
@@ -149,6 +161,26 @@ TEST(SampleFile, DamagedFilesAreRefusedWithTheFileName) {
   bytes[bytes.size() - 20] ^= 1;  // a footer range
   writeBytes(path, bytes);
   expectError("footer");
+  // A chunk header claiming far more records than its small zstd payload holds: refused from
+  // the frame's recorded content size, before the claimed 1.3 GB are allocated.
+  bytes = good;
+  uint32_t records = 0, rawBytes = 0;
+  std::memcpy(&records, &bytes[128 + 4], 4);
+  std::memcpy(&rawBytes, &bytes[128 + 24], 4);
+  const uint32_t claimed = 1u << 24, claimedBytes = uint32_t(uint64_t(rawBytes) / records * claimed);
+  std::memcpy(&bytes[128 + 4], &claimed, 4);
+  std::memcpy(&bytes[128 + 24], &claimedBytes, 4);
+  writeBytes(path, bytes);
+  const long peakBefore = peakResidentKb();
+  expectError("claimed records");
+  EXPECT_LT(peakResidentKb() - peakBefore, 200 * 1024) << "allocated for the claimed records";
+  // A FIFO is not a sample file: refused at once (opening it blocked until a writer came).
+  const std::string fifo = tempPath("fifo.samples");
+  std::filesystem::remove(fifo);
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  const std::string e = readSampleFile(fifo, info, nullptr);
+  EXPECT_NE(e.find("not a regular file"), std::string::npos) << e;
+  std::filesystem::remove(fifo);
   std::filesystem::remove(path);
 }
 
