@@ -113,7 +113,7 @@ class FilmAccumulator {
   Filter filter_;
   bool scalar_;  // one grey channel: sums a, a^2, a c, a^2 c^2 [, a^2 c]
   bool box_;     // box filter: sum a^2 c is not stored (record weights are 1)
-  int binsAt_;   // where the spectral bins' sums start: 8 (box) or 11
+  int binsAt_;   // where the spectral bins' sums start: 8 (box) or 12
   int stride_;   // int64 sums per pixel: scalar 4 (box) or 5, else binsAt_ + bins
   FilmSums sums_;
   std::vector<float> binScratch_;
