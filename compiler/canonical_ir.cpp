@@ -116,24 +116,13 @@ class Canonicaliser {
 uint64_t saturatingAdd(uint64_t a, uint64_t b) { return a + b < a ? UINT64_MAX : a + b; }
 
 // The inlined size of function f (its nodes, each call or fold counting its callee's inlined
-// size), memoised per function. Iterative, over the nodes and over the call chain: bodies 8192
-// levels deep calling each other 60 deep overflowed the stack when this recursed.
+// size), memoised per function; iterative over the nodes and the call chain (bodies 8192 levels
+// deep calling each other 60 deep overflowed the stack when this recursed).
 uint64_t functionSize(const lang::ir::Program& program, int f, std::map<int, uint64_t>& memo) {
-  if (auto it = memo.find(f); it != memo.end()) return it->second;
-  // Functions waiting for their callees: exactly the ancestors of the one being summed (what is
-  // above one on the work stack was pushed by it or its callees), so a callee among them is a
-  // cycle, which counts 0 (no valid program has one).
-  std::set<int> waiting;
-  std::vector<int> work = {f};
   std::vector<const Node*> nodes;
-  while (!work.empty()) {
-    const int g = work.back();
-    if (memo.count(g)) {
-      work.pop_back();
-      continue;
-    }
+  return lang::ir::bottomUpOverCalls(f, memo, [&](int g, const auto& callee) -> std::optional<uint64_t> {
     uint64_t size = 0;
-    std::vector<int> missing;
+    bool complete = true;
     nodes.assign(1, program.functions[size_t(g)].body);
     while (!nodes.empty()) {
       const Node* n = nodes.back();
@@ -141,21 +130,14 @@ uint64_t functionSize(const lang::ir::Program& program, int f, std::map<int, uin
       if (!n) continue;
       size = saturatingAdd(size, 1);
       if (n->kind == Node::Kind::Call || n->kind == Node::Kind::Fold) {
-        if (auto it = memo.find(n->callee); it != memo.end()) size = saturatingAdd(size, it->second);
-        else if (!waiting.count(n->callee)) missing.push_back(n->callee);
+        const std::optional<uint64_t> inlined = callee(n->callee);
+        if (inlined) size = saturatingAdd(size, *inlined);
+        else complete = false;
       }
       for (const Node* a : n->args) nodes.push_back(a);
     }
-    if (missing.empty()) {
-      memo[g] = size;
-      waiting.erase(g);
-      work.pop_back();
-    } else {
-      waiting.insert(g);
-      for (int m : missing) work.push_back(m);  // computed first, then g is summed again
-    }
-  }
-  return memo[f];
+    return complete ? std::optional<uint64_t>(size) : std::nullopt;
+  });
 }
 
 }  // namespace

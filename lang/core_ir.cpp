@@ -100,21 +100,45 @@ std::string dump(const Program& program, int function) {
   return out.str();
 }
 
-uint64_t inlinedDepth(const Program& program, int function, std::map<int, uint64_t>& memo) {
+uint64_t bottomUpOverCalls(
+    int function, std::map<int, uint64_t>& memo,
+    const std::function<std::optional<uint64_t>(int, const std::function<std::optional<uint64_t>(int)>&)>& summarise) {
   if (auto it = memo.find(function); it != memo.end()) return it->second;
-  // As compiler::inlinedSize: functions waiting for their callees are the ancestors of the one
-  // being measured, so a callee among them is a cycle (none in valid programs), counted 0.
+  // Functions waiting for their callees: exactly the ancestors of the one being summarised
+  // (what is above one on the work stack was pushed by it or its callees).
   std::set<int> waiting;
   std::vector<int> work = {function};
-  std::vector<std::pair<const Node*, uint64_t>> nodes;
   while (!work.empty()) {
     const int g = work.back();
     if (memo.count(g)) {
       work.pop_back();
       continue;
     }
-    uint64_t deepest = 0;
     std::vector<int> missing;
+    const auto callee = [&](int c) -> std::optional<uint64_t> {
+      if (auto it = memo.find(c); it != memo.end()) return it->second;
+      if (waiting.count(c)) return 0;  // a cycle
+      missing.push_back(c);
+      return std::nullopt;
+    };
+    const std::optional<uint64_t> value = summarise(g, callee);
+    if (value && missing.empty()) {
+      memo[g] = *value;
+      waiting.erase(g);
+      work.pop_back();
+    } else {
+      waiting.insert(g);
+      for (int m : missing) work.push_back(m);  // computed first, then g is summarised again
+    }
+  }
+  return memo[function];
+}
+
+uint64_t inlinedDepth(const Program& program, int function, std::map<int, uint64_t>& memo) {
+  std::vector<std::pair<const Node*, uint64_t>> nodes;
+  return bottomUpOverCalls(function, memo, [&](int g, const auto& callee) -> std::optional<uint64_t> {
+    uint64_t deepest = 0;
+    bool complete = true;
     nodes.assign(1, {program.functions[size_t(g)].body, 1});
     while (!nodes.empty()) {
       auto [n, depth] = nodes.back();
@@ -122,22 +146,15 @@ uint64_t inlinedDepth(const Program& program, int function, std::map<int, uint64
       if (!n) continue;
       uint64_t here = depth;
       if (n->kind == Node::Kind::Call || n->kind == Node::Kind::Fold) {
-        if (auto it = memo.find(n->callee); it != memo.end()) here = depth + it->second;
-        else if (!waiting.count(n->callee)) missing.push_back(n->callee);
+        const std::optional<uint64_t> below = callee(n->callee);
+        if (below) here = depth + *below;
+        else complete = false;
       }
       deepest = std::max(deepest, here);
       for (const Node* a : n->args) nodes.push_back({a, depth + 1});
     }
-    if (missing.empty()) {
-      memo[g] = deepest;
-      waiting.erase(g);
-      work.pop_back();
-    } else {
-      waiting.insert(g);
-      for (int m : missing) work.push_back(m);
-    }
-  }
-  return memo[function];
+    return complete ? std::optional<uint64_t>(deepest) : std::nullopt;
+  });
 }
 
 }  // namespace tex::lang::ir

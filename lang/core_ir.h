@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <deque>
 #include <map>
+#include <optional>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -140,5 +142,14 @@ std::string dump(const Program& program, int function);
 // Iterative (no recursion of its own), memoised per function in `memo`.
 constexpr uint64_t kMaxInlinedDepth = 65536;
 uint64_t inlinedDepth(const Program& program, int function, std::map<int, uint64_t>& memo);
+
+// A value per function computed from its body and its callees' values (inlined size, inlined
+// depth), bottom-up over the call graph without recursion, memoised in `memo`.
+// summarise(g, callee) computes g's value given callee(c), which returns c's value or nullopt
+// when c is not known yet (summarise then returns nullopt too, after asking for every callee
+// it needs). A callee that is an ancestor of g (a cycle: no valid program has one) is 0.
+uint64_t bottomUpOverCalls(
+    int function, std::map<int, uint64_t>& memo,
+    const std::function<std::optional<uint64_t>(int, const std::function<std::optional<uint64_t>(int)>&)>& summarise);
 
 }  // namespace tex::lang::ir

@@ -2,13 +2,7 @@
 # End-to-end checks of `tex render` as a user runs it: 1 and 2 threads give identical files,
 # the sample file develops to the same image, bad input gets a clear error and a non-zero exit
 # (never a crash), and help works. Usage: render_cli_test.sh TEX SOURCE_DIR
-set -uo pipefail
-tex=$1
-src=$(cd "$2" && pwd)
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-failures=0
-fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 # expect_exit CODE DESCRIPTION CMD...: runs CMD, checks its exit status, keeps its output in $out
 expect_exit() {
   local want=$1 what=$2

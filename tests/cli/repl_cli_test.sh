@@ -4,13 +4,7 @@
 # every time it is tried again (never silence); a failed :reload keeps its files; a lexical
 # error ends the input instead of swallowing the next line; commands are trimmed; `hit` in a
 # definition gets a clear hint. Usage: repl_cli_test.sh TEX SOURCE_DIR
-set -uo pipefail
-tex=$1
-src=$(cd "$2" && pwd)
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-failures=0
-fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 
 # repl WHAT LINE...: pipes the lines into `tex repl` (run in $tmp) and keeps stdout and stderr
 # in $out. The exit status is 0 or 1 (an error was reported), never a crash or a hang.

@@ -509,6 +509,17 @@ TEST(PathTracer, GltfCoatsReflectFresnelOverBlackAndNothingAtIorOne) {
   }
 }
 
+// An 8 x 8 box-filtered render at 4096 spp with maximum depth 1: light reaching a surface
+// directly, through next-event estimation (with MIS) or through rays alone.
+DevelopedImage renderDepthOne(const RenderScene& rs, bool nextEventEstimation) {
+  FilmOptions f;
+  f.width = f.height = 8;
+  f.filter = FilterKind::Box;
+  f.settings.maxDepth = 1;
+  f.settings.nextEventEstimation = nextEventEstimation;
+  return renderFilm(rs, 2, 8 * 8 * 4096, f).develop();
+}
+
 // An emitter whose radiance reads its Hit (here its shading normal and uv) must give light
 // samples the emission a ray hitting the same point sees: MIS weighs the two techniques, so
 // any difference biases the image. A lamp quad whose vertex normals lean away from its face
@@ -539,12 +550,7 @@ TEST(PathTracer, HitDependentEmittersLookTheSameToLightSamplesAndToRays) {
   ASSERT_TRUE(rs);
   Estimate withLightSamples[3], raysOnly[3];
   for (bool nee : {true, false}) {
-    FilmOptions f;
-    f.width = f.height = 8;
-    f.filter = FilterKind::Box;
-    f.settings.maxDepth = 1;
-    f.settings.nextEventEstimation = nee;
-    const DevelopedImage img = renderFilm(*rs, 2, 8 * 8 * 4096, f).develop();
+    const DevelopedImage img = renderDepthOne(*rs, nee);
     for (int c = 0; c < 3; ++c) (nee ? withLightSamples : raysOnly)[c] = channelMean(img, c);
   }
   for (int c = 0; c < 3; ++c) {
@@ -591,16 +597,8 @@ TEST(PathTracer, CutOutAndBlendedEmittersLightAlikeThroughLightSamplesAndRays) {
     scene.cameras.push_back(camera);
     const std::unique_ptr<RenderScene> rs = buildSquare(scene, 8);
     ASSERT_TRUE(rs);
-    Estimate withLightSamples, raysOnly;
-    for (bool nee : {true, false}) {
-      FilmOptions f;
-      f.width = f.height = 8;
-      f.filter = FilterKind::Box;
-      f.settings.maxDepth = 1;
-      f.settings.nextEventEstimation = nee;
-      const DevelopedImage img = renderFilm(*rs, 2, 8 * 8 * 4096, f).develop();
-      (nee ? withLightSamples : raysOnly) = channelMean(img, 1);
-    }
+    const Estimate withLightSamples = channelMean(renderDepthOne(*rs, true), 1);
+    const Estimate raysOnly = channelMean(renderDepthOne(*rs, false), 1);
     const double se = std::hypot(withLightSamples.standardError, raysOnly.standardError);
     EXPECT_NEAR(withLightSamples.mean, raysOnly.mean, 4 * se + 1e-3 * raysOnly.mean) << int(c.mode);
     if (c.mode == GltfMaterial::AlphaMode::Opaque) {
