@@ -110,17 +110,28 @@ color::Rgb pixelRgb(const TextureEvaluator& evaluator, const compiler::HitAbi& h
     case lang::TypeKind::Color: return {v[0], v[1], v[2]};
     case lang::TypeKind::Spectrum: {
       // 8 stratified hero groups of 4 wavelengths: a noise-free enough look at a reflectance.
-      color::Rgb sum;
-      const int groups = 8;
-      for (int g = 0; g < groups; ++g) {
-        color::WavelengthGroup group = color::sampleWavelengthGroup((g + 0.5f) / (groups * 4.0f), 4);
-        evaluator.evaluate(hit, group.lambdaNm.data(), group.count, v);
-        color::Rgb rgb = color::reflectanceGroupToLinearSrgb(group, v);
-        sum.r += rgb.r / groups;
-        sum.g += rgb.g / groups;
-        sum.b += rgb.b / groups;
-      }
-      return sum;
+      // The 32-point rule alone shows a flat reflectance of 1 as (1.0002, 1.0003, 0.9981): each
+      // channel is divided by what the rule gives for that flat 1, so greys are exact.
+      constexpr int groups = 8;
+      const auto integrate = [&](const auto& valuesAt) {
+        color::Rgb sum;
+        for (int g = 0; g < groups; ++g) {
+          color::WavelengthGroup group = color::sampleWavelengthGroup((g + 0.5f) / (groups * 4.0f), 4);
+          valuesAt(group, v);
+          color::Rgb rgb = color::reflectanceGroupToLinearSrgb(group, v);
+          sum.r += rgb.r / groups;
+          sum.g += rgb.g / groups;
+          sum.b += rgb.b / groups;
+        }
+        return sum;
+      };
+      static const color::Rgb white = integrate([](const color::WavelengthGroup& group, float* out) {
+        for (int i = 0; i < group.count; ++i) out[i] = 1.0f;
+      });
+      const color::Rgb sum = integrate([&](const color::WavelengthGroup& group, float* out) {
+        evaluator.evaluate(hit, group.lambdaNm.data(), group.count, out);
+      });
+      return {sum.r / white.r, sum.g / white.g, sum.b / white.b};
     }
     default: return {0, 0, 0};
   }

@@ -218,6 +218,13 @@ mkfifo "$tmp/fifo"
 expect_exit 1 "develop of a FIFO" timeout 10 "$tex" develop "$tmp/fifo" -o "$tmp/f.exr"
 expect_exit 1 "compare of a FIFO" timeout 10 "$tex" compare "$tmp/fifo" "$tmp/d40.exr"
 
+# tex eval shows a flat spectrum as exact grey (its 32-point rule had shown white as
+# (1.0002, 1.0003, 0.9981)): the same grey as a Color, to float rounding.
+printf 'export fn s(h: Hit) -> Spectrum = spectrum(0.75)\nexport fn c(h: Hit) -> Color = rgb(0.75, 0.75, 0.75)\n' > "$tmp/grey.tex"
+"$tex" eval "$tmp/grey.tex" --fn s --size 4x4 -o "$tmp/grey_s.exr" > /dev/null 2>&1
+"$tex" eval "$tmp/grey.tex" --fn c --size 4x4 -o "$tmp/grey_c.exr" > /dev/null 2>&1
+expect_exit 0 "eval of a flat spectrum is grey" "$tex" compare "$tmp/grey_s.exr" "$tmp/grey_c.exr" --max-rmse 1e-6
+
 # A definition 8002 levels deep (the most the parser allows is 8192) evaluates with the
 # interpreter on TBB's workers too: their default stacks overflowed at about 4600 levels.
 chain=$(printf ' + 1.0%.0s' $(seq 4000))
