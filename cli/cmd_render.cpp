@@ -245,6 +245,12 @@ int runRender(const Args& args) {
   if (!rs) {
     // Located diagnostics already start with the scene's name (and end with a newline).
     while (!error.empty() && error.back() == '\n') error.pop_back();
+    // Diagnostics that say "error:" themselves are printed after "tex render:" alone (they
+    // read "tex render: error: p3.json:3:16: error: ..." before).
+    if (error.find(": error:") != std::string::npos) {
+      std::fprintf(stderr, "tex render: %s\n", (error.rfind(f.scene, 0) == 0 ? error : f.scene + ": " + error).c_str());
+      return 1;
+    }
     return fail(error.rfind(f.scene, 0) == 0 ? error : f.scene + ": " + error);
   }
 

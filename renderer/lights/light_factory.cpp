@@ -11,13 +11,16 @@ namespace tex::render {
 
 std::unique_ptr<Light> makeLight(const LightDesc& desc, std::string& error) {
   error.clear();
+  // Where the light is: the scene file's line and column when it came from one.
+  const std::string what = (desc.origin.empty() ? std::string() : desc.origin + ": ") + "light" +
+                           (desc.name.empty() ? std::string() : " '" + desc.name + "'");
   SpectrumDesc emission = desc.emission;
   emission.scale *= desc.intensity;
   SpectrumSource spectrum;
   try {
     spectrum = SpectrumSource(emission, SpectrumUse::Illuminant);
   } catch (const std::exception& e) {
-    error = "light '" + desc.name + "': " + e.what();
+    error = what + ": " + e.what();
     return nullptr;
   }
   switch (desc.kind) {
@@ -31,11 +34,11 @@ std::unique_ptr<Light> makeLight(const LightDesc& desc, std::string& error) {
       return makeConstantEnvironment(spectrum);
     case LightDesc::Kind::ImageEnvironment: {
       std::unique_ptr<Light> light = loadImageEnvironment(desc.imagePath, desc.environmentToWorld, desc.intensity, error);
-      if (!light) error = "light '" + desc.name + "': " + error;
+      if (!light) error = what + ": " + error;
       return light;
     }
   }
-  error = "light '" + desc.name + "': unknown kind";
+  error = what + ": unknown kind";
   return nullptr;
 }
 

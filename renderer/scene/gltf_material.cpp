@@ -119,6 +119,10 @@ GltfMaterial convert(GltfImport& import, const tinygltf::Material& m, int index)
   const auto& pbr = m.pbrMetallicRoughness;
   if (!doublesInto<4>(pbr.baseColorFactor, &out.baseColorFactor.x) && !pbr.baseColorFactor.empty())
     import.warn(where + ": baseColorFactor is not 4 finite numbers; using 1");
+  // Kept as written, as other out-of-range values are, but a base colour is a reflectance:
+  // shading clamps it to [0, 1], which is said rather than silent.
+  if (out.baseColorFactor.x > 1.0f || out.baseColorFactor.y > 1.0f || out.baseColorFactor.z > 1.0f)
+    import.warn(where + ": baseColorFactor above 1 (the spec's range is [0, 1]); shading clamps it to 1");
   out.baseColorTexture = textureRef(import, pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord,
                                     pbr.baseColorTexture.extensions, where + " baseColorTexture");
   out.metallicFactor = std::isfinite(pbr.metallicFactor) ? float(pbr.metallicFactor) : 1.0f;

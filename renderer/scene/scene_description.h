@@ -147,6 +147,7 @@ struct LightDesc {
   float innerConeRadians = 0, outerConeRadians = 0.7853982f;
   std::string imagePath;              // ImageEnvironment: OpenEXR file
   Mat4 environmentToWorld{1.0f};
+  std::string origin;                 // "scene.json:12:5" of a scene file's light, for messages ("" for glTF's)
 };
 
 struct RenderSettings {

@@ -92,6 +92,9 @@ class SceneJsonLoader {
     if (const JsonAt c = r_.child(at, "base_color")) {
       std::vector<float> v;
       if (!r_.vector(c, 3, 4, v)) return;
+      // A reflectance (and alpha): above 1 it was clamped silently, where metallic 2 is an error.
+      for (float x : v)
+        if (!(x >= 0.0f && x <= 1.0f)) return r_.error(c, "components must be in [0, 1] (a reflectance and an alpha)");
       m.baseColorFactor = Vec4(v[0], v[1], v[2], v.size() == 4 ? v[3] : 1.0f);
     }
     bool ok = r_.number(at, "metallic", m.metallicFactor, 0, 1) && r_.number(at, "roughness", m.roughnessFactor, 0, 1) &&
@@ -188,6 +191,13 @@ class SceneJsonLoader {
     if (SceneJsonReader::keyCount(match) != 1) return r_.error(match, "give exactly one of \"material\" and \"mesh\"");
     if (!r_.string(match, "material", b.matchMaterial) || !r_.string(match, "mesh", b.matchMesh)) return;
     if (b.matchMaterial.empty() && b.matchMesh.empty()) return r_.error(match, "the name is empty (it would match nothing)");
+    // Two bindings for one name: only the first would ever be used (the second was dropped
+    // silently). A binding by mesh name over one by material name is the documented precedence.
+    for (const TexMaterialBinding& earlier : scene_.texMaterials)
+      if (earlier.matchMaterial == b.matchMaterial && earlier.matchMesh == b.matchMesh)
+        return r_.error(match, std::string("a binding for the ") + (b.matchMesh.empty() ? "material" : "mesh") + " \"" +
+                                   (b.matchMesh.empty() ? b.matchMaterial : b.matchMesh) + "\" already exists (at " +
+                                   earlier.origin + ")");
     std::string file;
     if (!r_.child(at, "file")) return r_.error(at, "missing \"file\" (a .tex module)");
     if (!r_.child(at, "entry")) return r_.error(at, "missing \"entry\" (the exported material function)");
@@ -263,6 +273,7 @@ class SceneJsonLoader {
     std::string type;
     if (!r_.string(at, "type", type)) return;
     LightDesc l;
+    l.origin = r_.where(at);
     l.emission.kind = SpectrumDesc::Kind::Constant;
     l.emission.value = 1;
     if (type == "point") {
@@ -302,6 +313,14 @@ class SceneJsonLoader {
     }
     if (!r_.string(at, "name", l.name) || !r_.number(at, "intensity", l.intensity, 0)) return;
     if (const JsonAt e = r_.child(at, "emission"); e) {
+      // A light's rgb is an illuminant (docs/scene-format.md): "as" saying otherwise had been
+      // accepted and ignored.
+      if (e.j->is_object() && r_.child(e, "as")) {
+        std::string use;
+        if (!r_.string(e, "as", use)) return;
+        if (use != "illuminant")
+          return r_.error(r_.child(e, "as"), "a light's rgb emission is an illuminant; \"as\": \"" + use + "\" does not apply");
+      }
       if (!r_.spectrum(e, l.emission)) return;
       // Negative emission rendered black silently, where a negative intensity is an error.
       const SpectrumDesc& s = l.emission;

@@ -110,8 +110,14 @@ bool SceneJsonReader::texParam(const JsonAt& at, TexParamValue& out) {
     out.boolValue = j.get<bool>();
   } else if (j.is_number_integer()) {
     // Integers may also feed Float parameters: both forms are filled.
+    // Beyond the 32-bit range an integer can only be a Float (3000000000 for a Float parameter
+    // had been refused while 3e9 was taken): it is passed as one, and an Int parameter refuses it.
     const int64_t v = j.is_number_unsigned() ? int64_t(std::min<uint64_t>(j.get<uint64_t>(), INT64_MAX)) : j.get<int64_t>();
-    if (v < INT32_MIN || v > INT32_MAX) return error(at, "integer out of the 32-bit range"), false;
+    if (v < INT32_MIN || v > INT32_MAX) {
+      out.kind = TexParamValue::Kind::Float;
+      out.floats = {j.is_number_unsigned() ? float(j.get<uint64_t>()) : float(v)};
+      return true;
+    }
     out.kind = TexParamValue::Kind::Int;
     out.intValue = int32_t(v);
     out.floats = {float(v)};

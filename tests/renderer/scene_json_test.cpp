@@ -289,6 +289,34 @@ TEST(SceneJson, BindingThatMatchesNothingIsAWarning) {
             std::string::npos);
 }
 
+// From a hunt against scene-format.md: two bindings for one name are an error (the second had
+// been dropped silently); "as" on a light's emission other than "illuminant" is an error (it
+// had been accepted and ignored); a base_color above 1 is an error (clamped silently); an
+// integer beyond 32 bits feeds a Float parameter (3000000000 had been refused, 3e9 taken);
+// a scene file's light carries its line and column for later messages.
+TEST(SceneJson, AmbiguousOrIgnoredSettingsAreErrors) {
+  EXPECT_NE(firstError(R"({"materials": [{"match": {"material": "M"}, "file": "walls.tex", "entry": "white"},
+                                        {"match": {"material": "M"}, "file": "walls.tex", "entry": "red"}]})")
+                .find("a binding for the material \"M\" already exists (at scene.json:1:16)"),
+            std::string::npos);
+  EXPECT_NE(firstError(R"({"lights": [{"type": "environment", "emission": {"rgb": [1, 1, 1], "as": "reflectance"}}]})")
+                .find("a light's rgb emission is an illuminant"),
+            std::string::npos);
+  EXPECT_NE(firstError(R"({"pbr_materials": {"M": {"base_color": [2, 0.5, 0.5]}}})").find("components must be in [0, 1]"),
+            std::string::npos);
+  std::vector<std::string> errors;
+  auto scene = parse(R"({"lights": [{"type": "environment", "emission": {"rgb": [1, 1, 1], "as": "illuminant"}}],
+                         "materials": [{"match": {"material": "M"}, "file": "walls.tex", "entry": "white", "params": {"f": 3000000000}}]})",
+                     errors);
+  ASSERT_TRUE(scene) << errors[0];
+  ASSERT_EQ(scene->texMaterials.size(), 1u);
+  const TexParamValue& f = scene->texMaterials[0].params.at("f");
+  EXPECT_EQ(f.kind, TexParamValue::Kind::Float);
+  EXPECT_EQ(f.floats[0], 3.0e9f);
+  ASSERT_EQ(scene->lights.size(), 1u);
+  EXPECT_EQ(scene->lights[0].origin, "scene.json:1:13");
+}
+
 TEST(SceneJson, OrthographicCamera) {
   std::vector<std::string> errors;
   auto scene = parse(R"({"camera": {"type": "orthographic", "from": [0, 0, 5], "ymag": 2.5, "aspect": 2}})", errors);
