@@ -96,19 +96,22 @@ float Bsdf::componentWeights(const Vec3& wo, float* weights) const {
 }
 
 Spectrum Bsdf::localEval(const Vec3& wo, const Vec3& wi, TransportMode mode) const {
-  Spectrum f, coated;
+  // Base lobes under a coat, by the transmittance they take (layer.h): spread over the
+  // hemisphere (Lambertian) or near the mirror direction (glossy, conductors, sheen).
+  Spectrum f, coated, coatedDirectional;
   for (int i = 0; i < count_; ++i) {
     if (lobeIsSpecular(storage_.lobes[i].kind)) continue;
     const Lobe& lobe = storage_.lobes[i];
     const Spectrum fLobe = lobe.kind == LobeKind::Lambertian ? lambertianEval(lobe, wo, wi) : lobeEval(lobe, wo, wi, mode);
     if (hasCoat_ && lobe.underCoat) {
-      coated += fLobe;
+      (spreadsOverTheHemisphere(lobe.kind) ? coated : coatedDirectional) += fLobe;
     } else {
       f += fLobe;
     }
   }
   if (hasCoat_) {
     if (!coated.isBlack()) f += coated * coatTransmittance(coat_, wo, wi);
+    if (!coatedDirectional.isBlack()) f += coatedDirectional * coatTransmittanceDirectional(coat_, wo, wi);
     f += coatEval(coat_, wo, wi);
   }
   return f;
@@ -217,7 +220,8 @@ std::optional<BsdfSample> Bsdf::sample(const Vec3& woWorld, float uc, Vec2 u2, T
 
   if (s->specular) {
     s->pdfW *= weights[chosen] / total;  // the Dirac lobe's own f; the others have no mass on its direction
-    if (!coatChosen && hasCoat_ && storage_.lobes[chosen].underCoat) s->f *= coatTransmittance(coat_, wo, wi);
+    // A Dirac base lobe under a coat (a mirror, glass) takes the directional transmittance.
+    if (!coatChosen && hasCoat_ && storage_.lobes[chosen].underCoat) s->f *= coatTransmittanceDirectional(coat_, wo, wi);
   } else {
     // The direction could have come from any non-specular component: the mixture's f and pdf.
     // For a lone Lambertian lobe, localEval and localPdf would re-evaluate the lobe that made

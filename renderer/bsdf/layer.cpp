@@ -83,6 +83,17 @@ Spectrum coatTransmittance(const Lobe& coat, const Vec3& wo, const Vec3& wi) {
   return t;
 }
 
+Spectrum coatTransmittanceDirectional(const Lobe& coat, const Vec3& wo, const Vec3& wi) {
+  const float cosO = std::fabs(wo.z), cosI = std::fabs(wi.z);
+  const auto lane = [&](float eta) {
+    return usableEta(eta) ? 1.0f - std::max(fresnelDielectric(cosO, eta), fresnelDielectric(cosI, eta)) : 1.0f;
+  };
+  if (!coat.etaVaries) return Spectrum(lane(coat.a.v[0]));
+  Spectrum t;
+  for (int i = 0; i < kLanes; ++i) t.v[i] = lane(coat.a.v[i]);
+  return t;
+}
+
 Spectrum coatEval(const Lobe& coat, const Vec3& wo, const Vec3& wi) {
   if (coatIsSpecular(coat)) return Spectrum();
   return ggxDielectricReflectionEval(coat, wo, wi);  // lane IORs as laneEta gives them

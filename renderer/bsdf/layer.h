@@ -22,8 +22,20 @@ float fresnelDielectricAverage(float eta);
 bool coatIsSpecular(const Lobe& coat);
 // The hero's Fresnel reflectance at wo (coat selection probability share).
 float coatSelectionReflectance(const Lobe& coat, const Vec3& wo);
-// Per-lane T(wo, wi) for base lobes (1 where a lane's eta is invalid or 1).
+// Per-lane T(wo, wi) for Lambertian base lobes (1 where a lane's eta is invalid or 1).
 Spectrum coatTransmittance(const Lobe& coat, const Vec3& wo, const Vec3& wi);
+// Per-lane T for base lobes that scatter near the mirror direction (specular, conductor,
+// glossy, sheen): 1 - max(F(cos_o), F(cos_i)). The Lambertian T's internal bounces average F
+// over the hemisphere (F_avg), right for a base that spreads light everywhere; under a mirror
+// the light bounces between coat and base at the same angle, and (1 - F)^2 / (1 - F_avg)
+// exceeded 1 - F wherever F < F_avg: a coat over a mirror reflected 1.055 of the light. This
+// T is 1 - F at the mirror direction (exact for a mirror: F + (1 - F) = 1), reciprocal, and
+// never above 1 - F(cos_o), so a coated base of albedo <= 1 never gains energy.
+Spectrum coatTransmittanceDirectional(const Lobe& coat, const Vec3& wo, const Vec3& wi);
+// Whether a base lobe of this kind takes the Lambertian T (else the directional one).
+inline bool spreadsOverTheHemisphere(LobeKind kind) {
+  return kind == LobeKind::Lambertian || kind == LobeKind::LambertianUnderSheen;
+}
 
 Spectrum coatEval(const Lobe& coat, const Vec3& wo, const Vec3& wi);
 float coatPdf(const Lobe& coat, const Vec3& wo, const Vec3& wi);

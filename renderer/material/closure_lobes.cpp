@@ -119,6 +119,13 @@ struct Walker {
   Spectrum sheenReflectance(const compiler::ClosureNode& node) const {
     return clampZero(param(node, ParamUse::Reflectance));
   }
+  // The glossy model's exponent n: negative is 0, and above 1e15 (a mirror for every
+  // practical purpose) it is 1e15: glossy_dielectric lost its whole transmission at n = 1e19
+  // (float overflow in the lobe), uncounted.
+  float glossyExponentOf(const compiler::ClosureNode& node) const {
+    return std::min(std::max(scalarOf(node), 0.0f), 1e15f);
+  }
+
   float sheenRoughnessOf(const compiler::ClosureNode& node) const {
     return float(sheen::clampRoughness(scalarOf(node)));
   }
@@ -223,7 +230,7 @@ struct Walker {
         if (!bsdf) return;
         Lobe lobe;
         lobe.kind = LobeKind::GlossyReflection;
-        lobe.exponent = std::max(scalarOf(node), 0.0f);
+        lobe.exponent = glossyExponentOf(node);
         lobe.weight = weight * clampZero(param(node, ParamUse::Reflectance));
         addLobe(lobe);
         return;
@@ -232,7 +239,7 @@ struct Walker {
         if (!bsdf) return;
         Lobe lobe;
         lobe.kind = LobeKind::GlossyDielectric;
-        lobe.exponent = std::max(scalarOf(node), 0.0f);
+        lobe.exponent = glossyExponentOf(node);
         lobe.weight = weight;
         iorLanes(node, lobe);
         addLobe(lobe);

@@ -103,6 +103,42 @@ TEST(BsdfLayer, WhiteLambertianUnderSmoothCoatHasAlbedoOne) {
   }
 }
 
+// A coat over a base that scatters near the mirror direction (a perfect mirror, a rough white
+// metal, a sheen) must not gain energy. The Lambertian transmittance (1 - F_o)(1 - F_i) /
+// (1 - F_avg) made a coat over a mirror reflect 1.055 of the light (a furnace brightened at
+// every bounce); such lobes take 1 - max(F_o, F_i), which is exact for the mirror.
+TEST(BsdfLayer, CoatsOverMirrorsAndGlossyBasesDoNotGainEnergy) {
+  for (float eta : {1.5f, 2.4f}) {
+    for (LobeKind baseKind : {LobeKind::SmoothConductor, LobeKind::RoughConductor}) {
+      for (float alpha : {0.0f, 0.3f}) {
+        Bsdf bsdf(Frame(), Vec3(0, 0, 1));
+        Lobe base;
+        base.kind = baseKind;
+        base.weight = uniform(1);
+        base.a = uniform(0.2f);
+        base.b = uniform(1e4f);  // F = 1 to 1e-7: a white metal
+        base.roughness = 0.2f;
+        base.underCoat = true;
+        ASSERT_TRUE(bsdf.add(base));
+        Lobe coat;
+        coat.kind = alpha > 0.0f ? LobeKind::RoughDielectric : LobeKind::SmoothDielectric;
+        coat.weight = uniform(1);
+        coat.a = uniform(eta);
+        coat.roughness = alpha;
+        ASSERT_TRUE(bsdf.setCoat(coat));
+        for (float theta : {0.0f, 0.5f, 1.0f, 1.4f}) {
+          const double a = albedo(bsdf, fromAngles(theta, 0.4f), 100000, 9);
+          EXPECT_LE(a, 1.0 + 4e-3) << "eta " << eta << " base " << int(baseKind) << " coat alpha " << alpha << " theta " << theta;
+          // A smooth coat over a mirror: exactly F + (1 - F) = 1.
+          if (baseKind == LobeKind::SmoothConductor && alpha == 0.0f) {
+            EXPECT_NEAR(a, 1.0, 4e-3) << "eta " << eta << " theta " << theta;
+          }
+        }
+      }
+    }
+  }
+}
+
 TEST(BsdfLayer, RoughCoatAlbedoIsAtMostOneAndItsLossIsReported) {
   for (float alpha : {0.05f, 0.2f, 0.5f, 1.0f}) {
     for (float eta : {1.5f, 2.4f}) {

@@ -242,6 +242,21 @@ TEST(ClosureLobes, NonFiniteColoursAndMixWeightsFail) {
 namespace tex::render {
 namespace {
 
+// A glossy exponent beyond 1e15 is 1e15 (a mirror for every purpose): glossy_dielectric had lost
+// its whole transmission at n = 1e19 (0.023 where the smooth dielectric gives 0.559).
+TEST(ClosureLobes, HugeGlossyExponentsAreHeldAtAMirrorsValue) {
+  const Compiled c = compileEntries(
+      "export fn m(h: Hit) -> Material = glossy_dielectric(1.35, 1.0e19)\n"
+      "export fn g(h: Hit) -> Material = glossy(spectrum(1.0), 1.0e30)\n",
+      {"m", "g"});
+  for (const CompiledBinding& b : c.bindings.bindings) {
+    const Shaded s = shade(b);
+    ASSERT_TRUE(s.result.ok);
+    ASSERT_EQ(s.bsdf.lobeCount(), 1);
+    EXPECT_EQ(s.bsdf.lobe(0).exponent, 1e15f);
+  }
+}
+
 TEST(ClosureLobes, GlossyCoatLayersAsTheMatchingGgxCoat) {
   const Compiled c = compileEntries(
       "export fn m(h: Hit) -> Material = layer(glossy_dielectric(1.5, 98.0), diffuse(spectrum(0.5)))\n", {"m"});
