@@ -274,8 +274,12 @@ class SceneJsonLoader {
     if (!r_.string(at, "type", type)) return;
     LightDesc l;
     l.origin = r_.where(at);
-    l.emission.kind = SpectrumDesc::Kind::Constant;
-    l.emission.value = 1;
+    // Without "emission" a light is white: rgb (1, 1, 1) read as an illuminant, as glTF's
+    // default light colour and the default sky are. (A constant spectrum of 1, the earlier
+    // default, develops to a pinkish (1.20, 0.95, 0.91).)
+    l.emission.kind = SpectrumDesc::Kind::Rgb;
+    l.emission.rgb = Vec3(1.0f);
+    l.emission.rgbAs = SpectrumDesc::RgbAs::Illuminant;
     if (type == "point") {
       l.kind = LightDesc::Kind::Point;
       if (!r_.checkKeys(at, {"type", "name", "emission", "intensity", "position"}) || !r_.vec3(at, "position", l.position)) return;

@@ -315,6 +315,13 @@ TEST(SceneJson, AmbiguousOrIgnoredSettingsAreErrors) {
   EXPECT_EQ(f.floats[0], 3.0e9f);
   ASSERT_EQ(scene->lights.size(), 1u);
   EXPECT_EQ(scene->lights[0].origin, "scene.json:1:13");
+  // A light without emission is white, as glTF's default light and the default sky are (a
+  // constant spectrum of 1 had developed to a pinkish (1.20, 0.95, 0.91)).
+  scene = parse(R"({"lights": [{"type": "point", "position": [0, 1, 0]}]})", errors);
+  ASSERT_TRUE(scene) << errors[0];
+  EXPECT_EQ(scene->lights[0].emission.kind, SpectrumDesc::Kind::Rgb);
+  EXPECT_EQ(scene->lights[0].emission.rgb, Vec3(1.0f));
+  EXPECT_EQ(scene->lights[0].emission.rgbAs, SpectrumDesc::RgbAs::Illuminant);
 }
 
 TEST(SceneJson, OrthographicCamera) {
