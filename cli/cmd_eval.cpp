@@ -154,6 +154,9 @@ int runEval(const Args& args) {
   }
   Options o;
   if (int rc = parse(args, o)) return rc;
+  // Ctrl-C is caught from here on (checking and compiling included), as in tex render.
+  std::atomic<bool> cancel{false};
+  runtime::ScopedSigintCancellation sigint(cancel);
 
   lang::Session session(o.session);
   lang::ModuleInfo* module = session.loadFile(o.file);
@@ -215,8 +218,6 @@ int runEval(const Args& args) {
   runtime::ProgressReporter progress("tex eval", uint64_t(o.width) * uint64_t(o.height));
   progress.start();
   // Ctrl-C stops at the next row; rows not evaluated stay black and the image is still written.
-  std::atomic<bool> cancel{false};
-  runtime::ScopedSigintCancellation sigint(cancel);
   oneapi::tbb::parallel_for(0, o.height, [&](int y) {
     if (cancel.load(std::memory_order_relaxed)) return;
     for (int x = 0; x < o.width; ++x) {

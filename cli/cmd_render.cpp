@@ -192,6 +192,12 @@ int runRender(const Args& args) {
   }
   RenderFlags f;
   if (int status = parseFlags(args, f)) return status;
+  // Ctrl-C is caught from here on, scene loading and compiling included: a first Ctrl-C during
+  // them lets the render stop at once with the (empty) partial image and exit 130. Installed
+  // only before the render, a Ctrl-C while loading was lost in shells that start background
+  // jobs with SIGINT ignored, and the whole render ran.
+  std::atomic<bool> cancel{false};
+  runtime::ScopedSigintCancellation sigint(cancel);
 
   std::string error;
   std::optional<render::SceneDescription> loaded = render::loadScene(f.scene, error);
@@ -309,8 +315,6 @@ int runRender(const Args& args) {
   FilmSink filmSink(film);
   std::vector<runtime::Sink<SampleRecord>*> sinks = {&filmSink};
   if (fileSink) sinks.push_back(fileSink.get());
-  std::atomic<bool> cancel{false};
-  runtime::ScopedSigintCancellation sigint(cancel);
   runtime::SchedulerOptions options;
   options.threads = f.threads;
   options.timeBudgetSeconds = f.timeSeconds;
