@@ -108,7 +108,9 @@ int runAnalyticDemo(const Args& args) {
     } else if (a == "--range") {
       if (!value() || !parseIndexRange(v, range)) return usage("--range needs A:B with A <= B");
     } else if (a == "--time") {
-      if (!value() || !parseSeconds(v, options.timeBudgetSeconds)) return usage("--time needs seconds");
+      // As tex render: 0 is refused (it meant "no budget" here and ran the whole range).
+      if (!value() || !parseSeconds(v, options.timeBudgetSeconds) || options.timeBudgetSeconds <= 0)
+        return usage("--time needs positive seconds");
     } else if (a == "--threads") {
       if (!value() || !parseIntInRange(v, options.threads, 1, 1024)) return usage("--threads needs 1..1024");
     } else if (a == "--chunk") {

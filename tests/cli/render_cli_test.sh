@@ -218,6 +218,9 @@ mkfifo "$tmp/fifo"
 expect_exit 1 "develop of a FIFO" timeout 10 "$tex" develop "$tmp/fifo" -o "$tmp/f.exr"
 expect_exit 1 "compare of a FIFO" timeout 10 "$tex" compare "$tmp/fifo" "$tmp/d40.exr"
 
+# --time 0 is refused by demo as by render (demo had run the whole range).
+expect_exit 2 "demo --time 0" "$tex" demo analytic --time 0 -o "$tmp/d0.exr"
+
 # tex eval shows a flat spectrum as exact grey (its 32-point rule had shown white as
 # (1.0002, 1.0003, 0.9981)): the same grey as a Color, to float rounding.
 printf 'export fn s(h: Hit) -> Spectrum = spectrum(0.75)\nexport fn c(h: Hit) -> Color = rgb(0.75, 0.75, 0.75)\n' > "$tmp/grey.tex"
