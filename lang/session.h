@@ -110,15 +110,12 @@ class Session {
 
   const std::string& stdlibDir() const { return stdlibDir_; }
 
+  struct Impl;
+
  private:
   // `function`, or -1 with E0413 when its inlined depth exceeds ir::kMaxInlinedDepth.
   int withinInlinedDepth(int function, Span at);
 
- public:
-
-  struct Impl;
-
- private:
   SessionOptions options_;
   std::string stdlibDir_;
   Diagnostics diags_;

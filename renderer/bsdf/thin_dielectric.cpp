@@ -65,46 +65,67 @@ float heroEventProbability(const Lobe& lobe, float cosOh, bool transmitted) {
 
 }  // namespace
 
-Spectrum roughThinDielectricEval(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
+namespace {
+
+// The reflection pair behind (wo, wi): wi mirrored onto wo's side when it is a transmission.
+struct WallPair {
   bool transmitted = false;
-  const Vec3 wiSide = reflectionSideOf(wo, wi, transmitted);
   Vec3 woUp, wiUp, h;
-  if (!upperReflectionPair(wo, wiSide, woUp, wiUp) || !halfVector(woUp, wiUp, h)) return Spectrum();
-  const float kernel = ggxReflectionKernel(woUp, wiUp, h, clampGgxAlpha(lobe.roughness));
-  const float cosOh = dot3(woUp, h);
-  if (!std::isfinite(kernel) || !(cosOh > 0.0f)) return Spectrum();
-  const float heroR = thinDielectricReflectance(cosOh, lobe.a.v[0]);
+  float cosOh = 0;
+};
+
+std::optional<WallPair> wallPair(const Vec3& wo, const Vec3& wi) {
+  WallPair p;
+  const Vec3 wiSide = reflectionSideOf(wo, wi, p.transmitted);
+  if (!upperReflectionPair(wo, wiSide, p.woUp, p.wiUp) || !halfVector(p.woUp, p.wiUp, p.h)) return std::nullopt;
+  p.cosOh = dot3(p.woUp, p.h);
+  return p;
+}
+
+Spectrum wallEval(const Lobe& lobe, const WallPair& p) {
+  const float kernel = ggxReflectionKernel(p.woUp, p.wiUp, p.h, clampGgxAlpha(lobe.roughness));
+  if (!std::isfinite(kernel) || !(p.cosOh > 0.0f)) return Spectrum();
+  const float heroR = thinDielectricReflectance(p.cosOh, lobe.a.v[0]);
   Spectrum f;
   for (int i = 0; i < kLanes; ++i) {
     if (lobe.weight.v[i] == 0.0f) continue;
-    const float r = lobe.etaVaries ? thinDielectricReflectance(cosOh, lobe.a.v[i]) : heroR;
-    f.v[i] = lobe.weight.v[i] * (transmitted ? 1.0f - r : r) * kernel;
+    const float r = lobe.etaVaries ? thinDielectricReflectance(p.cosOh, lobe.a.v[i]) : heroR;
+    f.v[i] = lobe.weight.v[i] * (p.transmitted ? 1.0f - r : r) * kernel;
   }
   return f;
 }
 
 // The hero's density: the lanes' R' differ, the directions do not (not dispersive).
+float wallPdf(const Lobe& lobe, const WallPair& p) {
+  return heroEventProbability(lobe, p.cosOh, p.transmitted) * ggxReflectionPairPdf(p.woUp, p.h, clampGgxAlpha(lobe.roughness));
+}
+
+}  // namespace
+
+Spectrum roughThinDielectricEval(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
+  const std::optional<WallPair> p = wallPair(wo, wi);
+  return p ? wallEval(lobe, *p) : Spectrum();
+}
+
 float roughThinDielectricPdf(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
-  bool transmitted = false;
-  const Vec3 wiSide = reflectionSideOf(wo, wi, transmitted);
-  Vec3 woUp, wiUp, h;
-  if (!upperReflectionPair(wo, wiSide, woUp, wiUp) || !halfVector(woUp, wiUp, h)) return 0.0f;
-  const float cosOh = dot3(woUp, h);
-  return heroEventProbability(lobe, cosOh, transmitted) * ggxReflectionPairPdf(woUp, h, clampGgxAlpha(lobe.roughness));
+  const std::optional<WallPair> p = wallPair(wo, wi);
+  return p ? wallPdf(lobe, *p) : 0.0f;
 }
 
 std::optional<BsdfSample> roughThinDielectricSample(const Lobe& lobe, const Vec3& wo, float uc, Vec2 u2) {
   const std::optional<Vec3> reflected = ggxReflectionDirection(lobe, wo, u2);
   if (!reflected) return std::nullopt;
-  Vec3 woUp, wiUp, h;
-  if (!upperReflectionPair(wo, *reflected, woUp, wiUp) || !halfVector(woUp, wiUp, h)) return std::nullopt;
-  const float heroR = heroEventProbability(lobe, dot3(woUp, h), false);
+  // One pair serves both events: a transmission mirrors the reflection back onto wo's side
+  // exactly, so pdf() and eval() of the sampled direction give these same values.
+  std::optional<WallPair> p = wallPair(wo, *reflected);
+  if (!p) return std::nullopt;
   BsdfSample s;
-  s.transmission = !(uc < heroR);
+  s.transmission = !(uc < heroEventProbability(lobe, p->cosOh, false));
+  p->transmitted = s.transmission;
   s.wi = s.transmission ? Vec3(reflected->x, reflected->y, -reflected->z) : *reflected;
-  s.pdfW = roughThinDielectricPdf(lobe, wo, s.wi);  // the same expression pdf() evaluates
+  s.pdfW = wallPdf(lobe, *p);
   if (!(s.pdfW > 0.0f)) return std::nullopt;
-  s.f = roughThinDielectricEval(lobe, wo, s.wi);
+  s.f = wallEval(lobe, *p);
   return s;
 }
 

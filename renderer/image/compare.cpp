@@ -1,6 +1,7 @@
 #include "renderer/image/compare.h"
 
 #include <cmath>
+#include <vector>
 #include <cstdio>
 
 namespace tex {
@@ -55,14 +56,13 @@ std::string compareImages(const ExrImage& a, const ExrImage& b, ImageComparison&
   uint64_t outliers = 0;
   const bool anyVariance = va[0] || va[1] || va[2] || vb[0] || vb[1] || vb[2];
   const auto varianceOf = [&](const ExrChannel* const* v, int k, size_t p) { return v[k] ? double(v[k]->values[p]) : 0.0; };
-  // A grey pixel: the three channels equal in value and variance in both images.
-  const auto grey = [&](size_t p) {
+  // Grey pixels (the three channels equal in value and variance in both images), found once.
+  std::vector<uint8_t> grey(anyVariance ? pixels : 0, 1);
+  for (size_t p = 0; p < grey.size(); ++p)
     for (int k = 1; k < 3; ++k)
       if (ca[k]->values[p] != ca[0]->values[p] || cb[k]->values[p] != cb[0]->values[p] ||
           varianceOf(va, k, p) != varianceOf(va, 0, p) || varianceOf(vb, k, p) != varianceOf(vb, 0, p))
-        return false;
-    return true;
-  };
+        grey[p] = 0;
   for (int k = 0; k < 3; ++k) {
     double channelSum = 0;
     for (size_t p = 0; p < pixels; ++p) {
@@ -71,7 +71,7 @@ std::string compareImages(const ExrImage& a, const ExrImage& b, ImageComparison&
       channelSum += d * d;
       relative += d * d / (y * y + 0.01);
       if (std::fabs(d) > out.maxAbsDifference || std::isnan(d)) out.maxAbsDifference = std::fabs(d);
-      if (!anyVariance || (k > 0 && grey(p))) continue;
+      if (!anyVariance || (k > 0 && grey[p])) continue;
       ++out.zChannels;
       const double variance = varianceOf(va, k, p) + varianceOf(vb, k, p);
       if (!std::isfinite(d) || !std::isfinite(variance)) {

@@ -23,8 +23,7 @@ struct RenderScene::Emission final : EmissionSource {
     // the cut-outs: a fully cut-out lamp still gave 0.037 of its light).
     if (cutOut_ && point.instance >= 0) {
       const float coverage = geometry->coverage(point.instance, point.triangle, point.b12.x, point.b12.y);
-      if (!(coverage > 0.0f)) return Spectrum();
-      return coverage < 1.0f ? uncovered(point, lambda) * coverage : uncovered(point, lambda);
+      return coverage > 0.0f ? uncovered(point, lambda) * coverage : Spectrum();
     }
     return uncovered(point, lambda);
   }
