@@ -44,7 +44,7 @@ const std::map<std::string, std::vector<BuiltinParam>>& namedBuiltinParams() {
   static const std::map<std::string, std::vector<BuiltinParam>> table = {
       {"dielectric", {{"ior"}, roughness}},
       {"conductor", {{"eta"}, {"k"}, roughness}},
-      {"thin_dielectric", {{"ior"}, roughness}},
+      {"thin_dielectric", {{"ior"}, roughness, {"transmission_tint", true, 1.0f}}},
       {"glossy", {{"reflectance"}, {"n"}}},
       {"glossy_dielectric", {{"ior"}, {"n"}}},
       {"layer", {{"coat"}, {"base"}}},
@@ -405,10 +405,11 @@ Node* Builder::builtinCall(const std::string& name, std::vector<TypedArg> args, 
   }
   if (name == "thin_dielectric") {
     // A rough wall (roughness > 0) scatters around both the mirror and the straight-through
-    // direction (renderer/bsdf/thin_dielectric.cpp).
-    const char* expected = "(ior, roughness = 0.0): an IOR Float or Spectrum and a Float";
-    if (!arity(2)) return noOverload(expected);
-    return material(Prim::MatThinDielectric, {spectrumArg(0), scalar(1)}, expected);
+    // direction (renderer/bsdf/thin_dielectric.cpp); the tint multiplies the transmission only.
+    const char* expected =
+        "(ior, roughness = 0.0, transmission_tint = 1.0): an IOR Float or Spectrum, a Float, and a Color, Spectrum or Float";
+    if (!arity(3)) return noOverload(expected);
+    return material(Prim::MatThinDielectric, {spectrumArg(0), colorOrSpectrumArg(2), scalar(1)}, expected);
   }
   if (name == "glossy") {
     const char* expected = "(reflectance: Color, Spectrum or Float, n: Float)";

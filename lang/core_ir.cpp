@@ -40,7 +40,7 @@ const MaterialEntry kMaterials[] = {
     {Prim::MatMix, "mix_material", {3, 2, 0, 0, true}},
     {Prim::MatDielectric, "dielectric", {4, 0, 1, 1, false}},
     {Prim::MatConductor, "conductor", {5, 0, 2, 1, false}},
-    {Prim::MatThinDielectric, "thin_dielectric", {6, 0, 1, 1, false}},
+    {Prim::MatThinDielectric, "thin_dielectric", {6, 0, 2, 1, false}},
     {Prim::MatGlossy, "glossy", {7, 0, 1, 1, false}},
     {Prim::MatGlossyDielectric, "glossy_dielectric", {8, 0, 1, 1, false}},
     {Prim::MatLayer, "layer", {9, 2, 0, 0, false}},

@@ -38,8 +38,9 @@ enum class LobeKind : uint8_t {
   // The materials issue's lobes (renderer/bsdf/microfacet*.cpp, glossy_lobe.cpp):
   RoughConductor,     // GGX, alpha = roughness; eta = a, k = b
   RoughDielectric,    // GGX reflection and transmission, alpha = roughness; eta = a
-  ThinDielectric,     // a thin slab (both interfaces, internal bounces summed); eta = a
-  RoughThinDielectric,  // a rough thin slab (GGX, alpha = roughness); eta = a
+  ThinDielectric,     // a thin slab (both interfaces, internal bounces summed); eta = a, b tints
+                      // the transmission only (1: untinted)
+  RoughThinDielectric,  // a rough thin slab (GGX, alpha = roughness); eta = a, transmission tint b
   GlossyReflection,   // the glossy model (docs/glossy-model.md): exponent n, reflectance = weight
   GlossyDielectric,   // the glossy model around both the mirror and the refracted direction; eta = a
   // Sheen (renderer/bsdf/sheen_lobe.h): the Charlie sheen, colour = weight, alpha = roughness; and

@@ -3,7 +3,10 @@
 // reflects R' = R + T^2 R / (1 - R^2) = 2R / (1 + R) and transmits T' = 1 - R' straight
 // through (wi = -wo: the two refractions cancel). Both events are Dirac (pbrt-v4 9.5.1,
 // ThinDielectricBxDF). The directions do not depend on eta, so it is never dispersive: every
-// lane carries its own R'_i (or T'_i) over the hero's event probability.
+// lane carries its own R'_i (or T'_i) over the hero's event probability. The lobe's `b` tints
+// the transmission only (glTF's thin-walled transmission: the base colour filters the light
+// passing the wall, never its reflection); events are still chosen by R' and T', so a tint of 0
+// in some lanes costs variance, never bias.
 //
 // A rough wall (GGX alpha > 0) is the model of thin-walled rough transmission used by the
 // Enterprise PBR and OpenPBR specifications: a microfacet reflection whose Fresnel term is the
@@ -41,7 +44,7 @@ std::optional<BsdfSample> thinDielectricSample(const Lobe& lobe, const Vec3& wo,
   for (int i = 0; i < kLanes; ++i) {
     if (lobe.weight.v[i] == 0.0f) continue;
     const float r = lobe.etaVaries ? thinDielectricReflectance(cosO, lobe.a.v[i]) : heroR;
-    s.f.v[i] = lobe.weight.v[i] * (reflected ? r : 1.0f - r) * invCos;
+    s.f.v[i] = lobe.weight.v[i] * (reflected ? r : (1.0f - r) * lobe.b.v[i]) * invCos;
   }
   return s;
 }
@@ -90,7 +93,7 @@ Spectrum wallEval(const Lobe& lobe, const WallPair& p) {
   for (int i = 0; i < kLanes; ++i) {
     if (lobe.weight.v[i] == 0.0f) continue;
     const float r = lobe.etaVaries ? thinDielectricReflectance(p.cosOh, lobe.a.v[i]) : heroR;
-    f.v[i] = lobe.weight.v[i] * (p.transmitted ? 1.0f - r : r) * kernel;
+    f.v[i] = lobe.weight.v[i] * (p.transmitted ? (1.0f - r) * lobe.b.v[i] : r) * kernel;
   }
   return f;
 }

@@ -223,6 +223,7 @@ struct Walker {
         // A thin slab does not bend light: a varying IOR changes each lane's R', never a
         // direction (the lobes take every lane's own R' over the hero's event probability).
         iorLanes(node, lobe);
+        lobe.b = clampZero(param(node, ParamUse::Reflectance, true));  // the transmission's tint
         addLobe(lobe);
         return;
       }

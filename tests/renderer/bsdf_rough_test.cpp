@@ -501,6 +501,7 @@ TEST(BsdfRough, ThinDielectricConservesEnergyAndPassesStraightThrough) {
   lobe.kind = LobeKind::ThinDielectric;
   lobe.weight = lanes({1, 1, 1, 1});
   lobe.a = lanes({1.5f, 1.52f, 2.4f, 1.1f});
+  lobe.b = uniform(1.0f);
   lobe.etaVaries = true;
   sampling::Pcg32 rng(61, 1);
   for (int i = 0; i < 2000; ++i) {
@@ -532,6 +533,7 @@ Lobe roughThin(float alpha, const Spectrum& eta, bool etaVaries = false) {
   l.kind = LobeKind::RoughThinDielectric;
   l.weight = uniform(1.0f);
   l.a = eta;
+  l.b = uniform(1.0f);
   l.etaVaries = etaVaries;
   l.roughness = alpha;
   return l;
@@ -657,6 +659,50 @@ TEST(BsdfRough, RoughThinDielectricLanesCarryTheirOwnFresnelWithoutDispersion) {
   EXPECT_FALSE(bsdf.hasDispersiveDensity());
 }
 
+// A thin wall's tint (glTF's base colour on a thin-walled transmissive material) multiplies the
+// transmission only: the reflection stays the untinted wall's R' (the slab's, not a single
+// interface's), smooth or rough, and the densities do not change.
+TEST(BsdfRough, ThinWallsTintTheirTransmissionOnly) {
+  const Spectrum tint = lanes({0.8f, 0.25f, 0.0f, 1.0f});
+  for (float alpha : {0.0f, 0.3f}) {
+    Lobe clear = roughThin(alpha, uniform(1.5f));
+    if (alpha == 0.0f) clear.kind = LobeKind::ThinDielectric;
+    Lobe tinted = clear;
+    tinted.b = tint;
+    sampling::Pcg32 rng(82, 1);
+    int transmissions = 0, reflections = 0;
+    for (int i = 0; i < 4000; ++i) {
+      const Vec3 wo = sampleUniformSphere(Vec2(rng.nextFloat(), rng.nextFloat()));
+      if (std::fabs(wo.z) < 0.05f) continue;
+      const float uc = rng.nextFloat();
+      const Vec2 u2(rng.nextFloat(), rng.nextFloat());
+      const auto a = lobeSample(clear, wo, uc, u2, TransportMode::Radiance);
+      const auto b = lobeSample(tinted, wo, uc, u2, TransportMode::Radiance);
+      ASSERT_EQ(bool(a), bool(b));
+      if (!a) continue;
+      ASSERT_EQ(a->wi, b->wi);
+      ASSERT_EQ(a->pdfW, b->pdfW);
+      ASSERT_EQ(a->transmission, b->transmission);
+      const Spectrum evalClear = lobeEval(clear, wo, a->wi, TransportMode::Radiance);
+      const Spectrum evalTinted = lobeEval(tinted, wo, a->wi, TransportMode::Radiance);
+      for (int k = 0; k < 4; ++k) {
+        const float expected = a->transmission ? a->f[k] * tint[k] : a->f[k];
+        ASSERT_FLOAT_EQ(b->f[k], expected) << alpha << " lane " << k;
+        ASSERT_FLOAT_EQ(evalTinted[k], a->transmission ? evalClear[k] * tint[k] : evalClear[k]);
+      }
+      (a->transmission ? transmissions : reflections)++;
+    }
+    EXPECT_GT(transmissions, 1000) << alpha;
+    EXPECT_GT(reflections, 100) << alpha;
+    // Head-on, the smooth wall reflects the slab's R' = 2R / (1 + R) = 0.0769 untinted.
+    if (alpha == 0.0f) {
+      const auto r = lobeSample(tinted, Vec3(0, 0, 1), 0.0f, Vec2(0.5f), TransportMode::Radiance);
+      ASSERT_TRUE(r && !r->transmission);
+      EXPECT_NEAR(r->f[2], 2.0f * 0.04f / 1.04f, 1e-6f);
+    }
+  }
+}
+
 // As alpha goes to 0 the rough wall becomes the smooth slab: transmission straight through.
 // GGX's tail is long (a share alpha^2 / (alpha^2 + t^2) of the facets lean beyond tan = t):
 // at alpha 2e-3 about 1 % of the samples leave the 0.999 cone.
@@ -693,6 +739,7 @@ TEST(BsdfRough, NoNaNForDegenerateInputs) {
     thin.kind = LobeKind::ThinDielectric;
     thin.weight = uniform(1);
     thin.a = lanes({1.5f, 0.0f, 1.0f, 1e4f});
+    thin.b = lanes({1.0f, 0.5f, 0.0f, 1.0f});
     thin.etaVaries = true;
     lobes.push_back(thin);
     thin.kind = LobeKind::RoughThinDielectric;

@@ -451,7 +451,9 @@ TEST(PathTracer, NormalMapsTiltTheCosineOfTheLight) {
 // glTF transmission: a material of thickness 0 is a thin wall (no refraction: a single-quad
 // window under a white sky passes it all, where a solid's 1/eta^2 gave 0.47), and the base
 // colour tints the transmitted light only: red glass reflects the sky's white in green and
-// blue (F(0) = 0.04), where its reflection had been tinted red too.
+// blue, where its reflection had been tinted red too. What it reflects is the wall's (both
+// interfaces): R' = 2 F(0) / (1 + F(0)) = 0.0769 head-on, where a single interface's 0.04 had
+// been taken.
 TEST(PathTracer, GltfThinWallsPassLightUnbentAndTintOnlyTheTransmission) {
   struct Case {
     Vec3 base;
@@ -459,12 +461,13 @@ TEST(PathTracer, GltfThinWallsPassLightUnbentAndTintOnlyTheTransmission) {
     Vec3 expected;
   };
   // Half transmissive white: half plastic (a white base under a smooth coat reflects all) and
-  // half glass, with one coat between them (a second coat had failed the material).
+  // half wall, with one coat between them (a second coat had failed the material).
   // A rough white wall (roughness 0.4, GGX alpha 0.16) reflects and transmits what GGX
   // reflection with F = 1 does head-on: 0.968, the rest lost to masking and to facets steeper
   // than 45 degrees. It had refracted as a solid: 0.47.
   const float roughWall = ggxSingleScatterAlbedoHeadOn(0.16f);
-  for (const Case c : {Case{Vec3(1.0f), 1.0f, Vec3(1.0f)}, Case{Vec3(1.0f, 0.0f, 0.0f), 1.0f, Vec3(1.0f, 0.04f, 0.04f)},
+  const float wallR = 2.0f * 0.04f / 1.04f;
+  for (const Case c : {Case{Vec3(1.0f), 1.0f, Vec3(1.0f)}, Case{Vec3(1.0f, 0.0f, 0.0f), 1.0f, Vec3(1.0f, wallR, wallR)},
                        Case{Vec3(1.0f), 0.5f, Vec3(1.0f)}, Case{Vec3(1.0f), 1.0f, Vec3(roughWall)}}) {
     const bool rough = c.expected.x < 1.0f;
     GltfMaterial window;
