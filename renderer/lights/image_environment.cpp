@@ -21,15 +21,40 @@ float luminanceOf(const Vec3& rgb) { return 0.2126729f * rgb.x + 0.7151522f * rg
 
 float rowCosTheta(int row, int height) { return std::cos(kPi * float(row) / float(height)); }
 
+// The orthogonal factor Q of the polar decomposition M = Q P of the matrix's 3x3 part (the
+// rotation, or rotation and mirror, nearest to it): the sky's directions go out through Q and
+// come back through its transpose, which is its inverse only when Q is orthogonal (normalising
+// the columns of a shearing matrix was not). Newton's iteration Q <- (Q + Q^-T) / 2 converges
+// quadratically. A rotation times a scale (a TRS transform) is its normalised columns, taken as
+// they are. A singular matrix keeps the identity.
+glm::mat3 orientationOf(const Mat4& m) {
+  glm::mat3 normalised;
+  for (int c = 0; c < 3; ++c) {
+    const Vec3 axis(m[c]);
+    const float len = std::sqrt(lengthSquared(axis));
+    normalised[c] = len > 0.0f ? axis / len : Vec3(c == 0, c == 1, c == 2);
+  }
+  float shear = 0.0f;
+  for (int a = 0; a < 3; ++a)
+    for (int b = a + 1; b < 3; ++b) shear = std::max(shear, std::fabs(glm::dot(normalised[a], normalised[b])));
+  if (shear < 1e-6f) return normalised;
+  glm::dmat3 q(normalised);
+  if (!(std::fabs(glm::determinant(q)) > 1e-9)) return glm::mat3(1.0f);
+  for (int i = 0; i < 30; ++i) {
+    const glm::dmat3 next = 0.5 * (q + glm::transpose(glm::inverse(q)));
+    double change = 0.0;
+    for (int c = 0; c < 3; ++c) change = std::max(change, glm::length(next[c] - q[c]));
+    q = next;
+    if (change < 1e-12) break;
+  }
+  return glm::mat3(q);
+}
+
 }  // namespace
 
 ImageEnvironment::ImageEnvironment(const RgbImage& image, const Mat4& environmentToWorld, float scale)
     : width_(image.width), height_(image.height) {
-  for (int c = 0; c < 3; ++c) {
-    const Vec3 axis(environmentToWorld[c]);
-    const float len = std::sqrt(lengthSquared(axis));
-    toWorld_[c] = len > 0.0f ? axis / len : Vec3(c == 0, c == 1, c == 2);
-  }
+  toWorld_ = orientationOf(environmentToWorld);
   const bool valid = width_ > 0 && height_ > 0 && image.rgb.size() >= size_t(width_) * size_t(height_) * 3;
   if (!valid) width_ = height_ = 1;  // an inconsistent image: one black pixel (the loader reports bad files)
   const size_t pixels = size_t(width_) * size_t(height_);

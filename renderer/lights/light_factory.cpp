@@ -1,5 +1,7 @@
 #include "renderer/lights/light_factory.h"
 
+#include <cmath>
+
 #include "renderer/lights/constant_environment.h"
 #include "renderer/lights/directional_light.h"
 #include "renderer/lights/image_environment.h"
@@ -21,6 +23,14 @@ std::unique_ptr<Light> makeLight(const LightDesc& desc, std::string& error) {
     spectrum = SpectrumSource(emission, SpectrumUse::Illuminant);
   } catch (const std::exception& e) {
     error = what + ": " + e.what();
+    return nullptr;
+  }
+  // The radiance must stay a float at every wavelength: beyond it every sample of the light
+  // was infinite and zeroed (a black image, exit 0).
+  bool finite = std::isfinite(spectrum.luminance());
+  for (float lambdaNm = 360.0f; finite && lambdaNm <= 830.0f; lambdaNm += 1.0f) finite = std::isfinite(spectrum.at(lambdaNm));
+  if (!finite) {
+    error = what + ": its intensity times its emission overflows a 32-bit float";
     return nullptr;
   }
   switch (desc.kind) {

@@ -13,20 +13,31 @@ SpotLight::SpotLight(const Vec3& position, const Vec3& direction, SpectrumSource
   const float outer = std::clamp(outerConeRadians, 0.0f, kPi / 2.0f);  // glTF: outer <= pi/2
   const float inner = std::clamp(innerConeRadians, 0.0f, outer);
   cosOuter_ = std::cos(outer);
-  angleScale_ = 1.0f / std::max(0.001f, std::cos(inner) - cosOuter_);  // KHR_lights_punctual
+  // 1 - cos as 2 sin^2(angle / 2): exact for narrow cones, where cos rounds to 1.
+  const auto versine = [](float angle) {
+    const float s = std::sin(0.5f * angle);
+    return 2.0f * s * s;
+  };
+  versineOuter_ = versine(outer);
+  versineInner_ = versine(inner);
 }
 
 float SpotLight::falloff(const Vec3& wOut) const {
-  const float t = std::clamp((dot3(wOut, frame_.n) - cosOuter_) * angleScale_, 0.0f, 1.0f);
+  // 1 - c = |n x w|^2 / (1 + c) keeps its precision near the axis, where c itself rounds to 1.
+  const float c = dot3(wOut, frame_.n);
+  if (!(c > 0.0f)) return 0.0f;  // outer <= pi/2
+  const float versine = lengthSquared(glm::cross(frame_.n, wOut)) / (1.0f + c);
+  if (!(versine < versineOuter_)) return 0.0f;
+  const float band = versineOuter_ - versineInner_;
+  if (!(versine > versineInner_) || !(band > 0.0f)) return 1.0f;
+  const float t = std::min((versineOuter_ - versine) / band, 1.0f);
   return t * t;
 }
 
 float SpotLight::power() const {
-  // 2 pi times the integral of the falloff over cos: 1 above cosFull, the quadratic ramp
-  // integrates to s^2 (m - cosOuter)^3 / 3 between cosOuter and m = min(1, cosFull).
-  const float cosFull = std::min(1.0f, cosOuter_ + 1.0f / angleScale_);
-  const float ramp = cosFull - cosOuter_;
-  const float integral = (1.0f - cosFull) + angleScale_ * angleScale_ * ramp * ramp * ramp / 3.0f;
+  // 2 pi times the integral of the falloff over cos (v = 1 - cos): 1 inside the inner cone
+  // (v_inner), and the quadratic ramp integrates to (v_outer - v_inner) / 3.
+  const float integral = versineInner_ + (versineOuter_ - versineInner_) / 3.0f;
   return 2.0f * kPi * integral * intensity_.luminance();
 }
 

@@ -1,9 +1,12 @@
 // A spot light: a point light of intensity I(lambda) W/sr on its axis, attenuated away from the
 // axis by the falloff of glTF's KHR_lights_punctual (scenes come from glTF, so a glTF viewer
 // and this renderer light a scene the same way). With c = cos(angle to the axis),
-//   s = 1 / max(0.001, cos(inner) - cos(outer)),  falloff(c) = clamp((c - cos(outer)) s, 0, 1)^2:
-// full intensity inside the inner cone, quadratic in cos down to 0 at the outer cone. (pbrt-v4
-// uses smoothstep(cos(outer), cos(inner), c) instead; the two differ only inside the penumbra.)
+//   falloff(c) = clamp((c - cos(outer)) / (cos(inner) - cos(outer)), 0, 1)^2:
+// full intensity inside the inner cone, quadratic in cos down to 0 at the outer cone, as the
+// Khronos sample viewer computes it. The spec's pseudocode bounds the denominator below by
+// 0.001, which left cones narrower than about 2.5 degrees dim on their own axis (2 % of the
+// intensity at 1 degree); here the differences are taken as 1 - cos, exact for narrow cones.
+// (pbrt-v4 uses smoothstep(cos(outer), cos(inner), c) instead; they differ in the penumbra.)
 #pragma once
 #include <memory>
 
@@ -33,7 +36,8 @@ class SpotLight final : public Light {
   Vec3 position_;
   Frame frame_;  // n = axis
   SpectrumSource intensity_;
-  float cosOuter_ = 0, angleScale_ = 1;
+  float cosOuter_ = 0;                          // for sampling the outer cone
+  float versineOuter_ = 1, versineInner_ = 0;  // 1 - cos of the cone angles
 };
 
 std::unique_ptr<Light> makeSpotLight(const Vec3& position, const Vec3& direction, SpectrumSource intensity,

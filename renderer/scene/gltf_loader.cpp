@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <optional>
 #include <set>
 
@@ -350,6 +351,16 @@ class Importer {
     in_.scene.cameras.push_back(desc);
   }
 
+  // The light's own JSON object in the file's KHR_lights_punctual extension, if tinygltf kept it.
+  const tinygltf::Value* rawLight(int index) const {
+    const auto ext = model_.extensions.find("KHR_lights_punctual");
+    if (ext == model_.extensions.end() || !ext->second.IsObject() || !ext->second.Has("lights")) return nullptr;
+    const tinygltf::Value& lights = ext->second.Get("lights");
+    if (!lights.IsArray() || index < 0 || size_t(index) >= lights.ArrayLen()) return nullptr;
+    const tinygltf::Value& light = lights.Get(index);
+    return light.IsObject() ? &light : nullptr;
+  }
+
   void addLight(const tinygltf::Node& node, int nodeIndex, const Mat4& world) {
     auto ext = node.extensions.find("KHR_lights_punctual");
     if (ext == node.extensions.end()) return;
@@ -374,13 +385,33 @@ class Importer {
       in_.warn("light " + std::to_string(index) + " has unknown type \"" + light.type + "\"; ignored");
       return;
     }
+    const std::string lightName = "light " + std::to_string(index);
+    // tinygltf drops a malformed colour or intensity without a word (a colour of four numbers
+    // rendered white, an intensity "10" rendered at 1): the raw extension says what was there.
+    const tinygltf::Value* raw = rawLight(index);
+    if (raw && raw->Has("intensity") && !raw->Get("intensity").IsNumber() && !raw->Get("intensity").IsInt())
+      in_.warn(lightName + " has an intensity that is not a number; 1 is used");
+    const bool colorGiven = raw ? raw->Has("color") : !light.color.empty();
     desc.emission.kind = SpectrumDesc::Kind::Rgb;
     desc.emission.rgb = Vec3(1.0f);
     if (light.color.size() == 3 && std::isfinite(light.color[0]) && std::isfinite(light.color[1]) &&
-        std::isfinite(light.color[2]))
+        std::isfinite(light.color[2])) {
+      const double largest = std::max({light.color[0], light.color[1], light.color[2]});
+      if (largest > double(std::numeric_limits<float>::max())) {
+        in_.warn(lightName + " has a colour beyond the range of a 32-bit float; ignored");
+        return;
+      }
       desc.emission.rgb = Vec3(float(light.color[0]), float(light.color[1]), float(light.color[2]));
-    if (!std::isfinite(light.intensity)) {
-      in_.warn("light " + std::to_string(index) + " has intensity " + std::to_string(light.intensity) + "; ignored");
+      if (std::min({desc.emission.rgb.x, desc.emission.rgb.y, desc.emission.rgb.z}) < 0.0f) {
+        in_.warn(lightName + " has a negative colour component; clamped to 0");
+        desc.emission.rgb = glm::max(desc.emission.rgb, Vec3(0.0f));
+      }
+    } else if (colorGiven) {
+      in_.warn(lightName + " has a colour that is not three finite numbers; white is used");
+    }
+    if (!std::isfinite(light.intensity) || light.intensity > double(std::numeric_limits<float>::max())) {
+      in_.warn(lightName + " has intensity " + std::to_string(light.intensity) +
+               (std::isfinite(light.intensity) ? ", beyond the range of a 32-bit float" : "") + "; ignored");
       return;
     }
     // Negative: clamped to a dark light, which is kept (dropped, it let the renderer light a

@@ -1,7 +1,9 @@
 // glTF materials and texture references. Parameter meanings and defaults: glTF 2.0 section
 // 3.9 and the Khronos extension specifications (KHR_materials_emissive_strength, _transmission,
 // _ior, _dispersion, _volume, KHR_texture_transform).
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "renderer/scene/gltf_import.h"
 
@@ -14,19 +16,36 @@ const tinygltf::Value* member(const tinygltf::Value& object, const char* key) {
   return &object.Get(key);
 }
 
-float numberOr(const tinygltf::Value& object, const char* key, float fallback) {
+// Finite and within a float's range: a double such as 1e39 is finite but becomes inf as a float
+// (an ior, emissive strength or factor of 1e39 had rendered black with no warning).
+bool fitsFloat(double d) { return std::isfinite(d) && std::fabs(d) <= double(std::numeric_limits<float>::max()); }
+
+// A member that must be a number: absent gives `fallback` silently; present but not a number
+// that fits a float gives `fallback` with a warning (`"abc"` had been read as the default).
+float numberOr(GltfImport& import, const std::string& where, const tinygltf::Value& object, const char* key,
+               float fallback) {
   const tinygltf::Value* v = member(object, key);
-  if (!v || !v->IsNumber()) return fallback;
-  const double d = v->GetNumberAsDouble();
-  return std::isfinite(d) ? float(d) : fallback;
+  if (!v) return fallback;
+  if (!v->IsNumber() || !fitsFloat(v->GetNumberAsDouble())) {
+    import.warn(where + ": " + key + " is not a number within the range of a 32-bit float; using " +
+                std::to_string(fallback));
+    return fallback;
+  }
+  return float(v->GetNumberAsDouble());
 }
 
-// Reads n numbers into out[0..n) when the member is an array of exactly n finite numbers.
-bool numbersInto(const tinygltf::Value& object, const char* key, int n, float* out) {
+// Reads n numbers into out[0..n) when the member is an array of exactly n numbers that fit a
+// float; warns when it is present but is not.
+bool numbersInto(GltfImport& import, const std::string& where, const tinygltf::Value& object, const char* key, int n,
+                 float* out) {
   const tinygltf::Value* v = member(object, key);
-  if (!v || !v->IsArray() || v->ArrayLen() != size_t(n)) return false;
-  for (int i = 0; i < n; ++i)
-    if (!v->Get(i).IsNumber() || !std::isfinite(v->Get(i).GetNumberAsDouble())) return false;
+  if (!v) return false;
+  bool ok = v->IsArray() && v->ArrayLen() == size_t(n);
+  for (int i = 0; ok && i < n; ++i) ok = v->Get(i).IsNumber() && fitsFloat(v->Get(i).GetNumberAsDouble());
+  if (!ok) {
+    import.warn(where + ": " + key + " is not " + std::to_string(n) + " numbers within the range of a 32-bit float; ignored");
+    return false;
+  }
   for (int i = 0; i < n; ++i) out[i] = float(v->Get(i).GetNumberAsDouble());
   return true;
 }
@@ -35,9 +54,21 @@ template <int N>
 bool doublesInto(const std::vector<double>& values, float* out) {
   if (values.size() != size_t(N)) return false;
   for (double d : values)
-    if (!std::isfinite(d)) return false;
+    if (!fitsFloat(d)) return false;
   for (int i = 0; i < N; ++i) out[i] = float(values[size_t(i)]);
   return true;
+}
+
+// A factor outside its range in the specification: clamped into it, with a warning (shading
+// clamped most of them anyway, but silently; negative emission had counted as an emitter that
+// emitted nothing, so a scene lit by nothing lost its default sky).
+float clampedFactor(GltfImport& import, const std::string& where, const char* name, float value, float lo, float hi) {
+  if (value >= lo && value <= hi) return value;
+  const float clamped = std::clamp(value, lo, hi);
+  import.warn(where + ": " + name + " " + std::to_string(value) + " is outside [" + std::to_string(lo) + ", " +
+              (hi == std::numeric_limits<float>::max() ? std::string("inf") : std::to_string(hi)) + "]; clamped to " +
+              std::to_string(clamped));
+  return clamped;
 }
 
 WrapMode wrapMode(int glWrap) {
@@ -82,9 +113,9 @@ TextureRef textureRef(GltfImport& import, int textureIndex, int texCoord, const 
   auto transform = extensions.find("KHR_texture_transform");
   if (transform != extensions.end()) {
     const tinygltf::Value& t = transform->second;
-    numbersInto(t, "offset", 2, &ref.offset.x);
-    numbersInto(t, "scale", 2, &ref.scale.x);
-    ref.rotation = numberOr(t, "rotation", 0.0f);
+    numbersInto(import, where + " KHR_texture_transform", t, "offset", 2, &ref.offset.x);
+    numbersInto(import, where + " KHR_texture_transform", t, "scale", 2, &ref.scale.x);
+    ref.rotation = numberOr(import, where + " KHR_texture_transform", t, "rotation", 0.0f);
     if (const tinygltf::Value* tc = member(t, "texCoord"); tc && tc->IsInt()) ref.texCoord = tc->GetNumberAsInt();
   }
   if (ref.texCoord != 0 && ref.texCoord != 1) {
@@ -125,41 +156,57 @@ GltfMaterial convert(GltfImport& import, const tinygltf::Material& m, int index)
     import.warn(where + ": baseColorFactor above 1 (the spec's range is [0, 1]); shading clamps it to 1");
   out.baseColorTexture = textureRef(import, pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord,
                                     pbr.baseColorTexture.extensions, where + " baseColorTexture");
-  out.metallicFactor = std::isfinite(pbr.metallicFactor) ? float(pbr.metallicFactor) : 1.0f;
-  out.roughnessFactor = std::isfinite(pbr.roughnessFactor) ? float(pbr.roughnessFactor) : 1.0f;
+  out.metallicFactor = clampedFactor(import, where, "metallicFactor", fitsFloat(pbr.metallicFactor) ? float(pbr.metallicFactor) : 1.0f, 0.0f, 1.0f);
+  out.roughnessFactor = clampedFactor(import, where, "roughnessFactor", fitsFloat(pbr.roughnessFactor) ? float(pbr.roughnessFactor) : 1.0f, 0.0f, 1.0f);
   out.metallicRoughnessTexture =
       textureRef(import, pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord,
                  pbr.metallicRoughnessTexture.extensions, where + " metallicRoughnessTexture");
   out.normalTexture = textureRef(import, m.normalTexture.index, m.normalTexture.texCoord, m.normalTexture.extensions,
                                  where + " normalTexture");
-  out.normalScale = std::isfinite(m.normalTexture.scale) ? float(m.normalTexture.scale) : 1.0f;
+  out.normalScale = fitsFloat(m.normalTexture.scale) ? float(m.normalTexture.scale) : 1.0f;
   if (!doublesInto<3>(m.emissiveFactor, &out.emissiveFactor.x) && !m.emissiveFactor.empty())
     import.warn(where + ": emissiveFactor is not 3 finite numbers; using 0");
+  for (int c = 0; c < 3; ++c)
+    out.emissiveFactor[c] = clampedFactor(import, where, "emissiveFactor component", out.emissiveFactor[c], 0.0f,
+                                          std::numeric_limits<float>::max());
   out.emissiveTexture = textureRef(import, m.emissiveTexture.index, m.emissiveTexture.texCoord,
                                    m.emissiveTexture.extensions, where + " emissiveTexture");
   if (m.alphaMode == "MASK") out.alphaMode = GltfMaterial::AlphaMode::Mask;
   else if (m.alphaMode == "BLEND") out.alphaMode = GltfMaterial::AlphaMode::Blend;
   else if (m.alphaMode != "OPAQUE") import.warn(where + ": unknown alphaMode \"" + m.alphaMode + "\"; using OPAQUE");
-  out.alphaCutoff = std::isfinite(m.alphaCutoff) ? float(m.alphaCutoff) : 0.5f;
+  out.alphaCutoff = clampedFactor(import, where, "alphaCutoff", fitsFloat(m.alphaCutoff) ? float(m.alphaCutoff) : 0.5f, 0.0f,
+                                  std::numeric_limits<float>::max());
   out.doubleSided = m.doubleSided;
 
   for (const auto& [name, ext] : m.extensions) {
+    const std::string at = where + " " + name;
+    const float unbounded = std::numeric_limits<float>::max();
     if (name == "KHR_materials_emissive_strength") {
-      out.emissiveStrength = numberOr(ext, "emissiveStrength", 1.0f);
+      out.emissiveStrength = clampedFactor(import, at, "emissiveStrength", numberOr(import, at, ext, "emissiveStrength", 1.0f), 0.0f, unbounded);
     } else if (name == "KHR_materials_transmission") {
-      out.transmissionFactor = numberOr(ext, "transmissionFactor", 0.0f);
+      out.transmissionFactor = clampedFactor(import, at, "transmissionFactor", numberOr(import, at, ext, "transmissionFactor", 0.0f), 0.0f, 1.0f);
       out.transmissionTexture = textureRefFromValue(import, ext, "transmissionTexture", where);
     } else if (name == "KHR_materials_ior") {
-      out.ior = numberOr(ext, "ior", 1.5f);
+      // 0 is valid: the specification's compatibility mode for specular-glossiness materials,
+      // whose Fresnel term is 1 at every angle. Anything else below 1 is not.
+      out.ior = numberOr(import, at, ext, "ior", 1.5f);
+      if (out.ior != 0.0f && !(out.ior >= 1.0f)) {
+        import.warn(at + ": ior " + std::to_string(out.ior) + " is neither 0 nor at least 1; using 1.5");
+        out.ior = 1.5f;
+      }
     } else if (name == "KHR_materials_dispersion") {
-      out.dispersion = numberOr(ext, "dispersion", 0.0f);
+      out.dispersion = clampedFactor(import, at, "dispersion", numberOr(import, at, ext, "dispersion", 0.0f), 0.0f, unbounded);
     } else if (name == "KHR_materials_volume") {
-      out.thicknessFactor = numberOr(ext, "thicknessFactor", 0.0f);
+      out.thicknessFactor = clampedFactor(import, at, "thicknessFactor", numberOr(import, at, ext, "thicknessFactor", 0.0f), 0.0f, unbounded);
       out.thicknessTexture = textureRefFromValue(import, ext, "thicknessTexture", where);
-      const tinygltf::Value* distance = member(ext, "attenuationDistance");
-      if (distance && distance->IsNumber() && distance->GetNumberAsDouble() > 0)
-        out.attenuationDistance = float(distance->GetNumberAsDouble());
-      numbersInto(ext, "attenuationColor", 3, &out.attenuationColor.x);
+      if (member(ext, "attenuationDistance")) {
+        const float distance = numberOr(import, at, ext, "attenuationDistance", 0.0f);
+        if (distance > 0.0f) out.attenuationDistance = distance;
+        else import.warn(at + ": attenuationDistance " + std::to_string(distance) + " is not positive; no attenuation");
+      }
+      if (numbersInto(import, at, ext, "attenuationColor", 3, &out.attenuationColor.x))
+        for (int c = 0; c < 3; ++c)
+          out.attenuationColor[c] = clampedFactor(import, at, "attenuationColor component", out.attenuationColor[c], 0.0f, 1.0f);
     } else {
       import.warnOnce("ext/" + name, "material extension " + name + " is not supported; ignored");
     }

@@ -310,7 +310,21 @@ class SceneJsonLoader {
         if (!r_.string(at, "image", file) || !r_.existingFile(image, file, l.imagePath)) return;
         l.kind = LightDesc::Kind::ImageEnvironment;
       }
-      if (const JsonAt t = r_.child(at, "transform"); t && !r_.transform(t, l.environmentToWorld)) return;
+      if (const JsonAt t = r_.child(at, "transform"); t) {
+        if (!r_.transform(t, l.environmentToWorld)) return;
+        // Only the orientation of a sky means anything; a matrix that shears has none (its
+        // directions would not map back the way they came: light samples and rays saw two
+        // different skies, the sun 10 degrees apart).
+        const Mat4& m = l.environmentToWorld;
+        for (int a = 0; a < 3; ++a)
+          for (int b = a + 1; b < 3; ++b) {
+            const Vec3 ca(m[a]), cb(m[b]);
+            const float la = glm::length(ca), lb = glm::length(cb);
+            if (!(la > 0.0f && lb > 0.0f) || std::fabs(glm::dot(ca, cb)) > 1e-3f * la * lb)
+              return r_.error(t, "an environment's transform must be a rotation (scale and translation are ignored); "
+                                 "this matrix shears or collapses directions");
+          }
+      }
     } else {
       return r_.error(r_.child(at, "type"), type.empty() ? "missing \"type\" (point, spot, directional or environment)"
                                                          : "unknown light type \"" + type + "\" (point, spot, directional or environment)");

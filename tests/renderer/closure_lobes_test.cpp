@@ -332,6 +332,46 @@ TEST(ClosureLobes, SheenMapsToItsLobeAndCoatsLambertianBases) {
   EXPECT_NE(s.bsdf.lobe(0).weight.v[0], s.bsdf.lobe(0).weight.v[3]);
 }
 
+// glTF metals through std.gltf: a black or nearly black metal keeps the rim glTF's Schlick form
+// gives it (Gulbrandsen's fit with edge tint r is an index-matched interface at r = 0, which had
+// reflected nothing at any angle), and KHR_materials_ior's ior 0 is a Fresnel of 1 (a mirror;
+// it had been read as 1.5 on opaque surfaces and as no interface at all on glass).
+TEST(ClosureLobes, GltfDarkMetalsKeepTheirRimAndIorZeroIsAMirror) {
+  const Compiled c = compileEntries(
+      "import std.gltf.{metallic_roughness}\n"
+      "export fn black_metal(h: Hit) -> Material = metallic_roughness(h, rgb(0.0, 0.0, 0.0), 1.0, 0.0, 0.0, 1.5, 0.0, rgb(0.0, 0.0, 0.0))\n"
+      "export fn dark_metal(h: Hit) -> Material = metallic_roughness(h, rgb(0.01, 0.01, 0.01), 1.0, 0.0, 0.0, 1.5, 0.0, rgb(0.0, 0.0, 0.0))\n"
+      "export fn mirror(h: Hit) -> Material = metallic_roughness(h, rgb(0.3, 0.3, 0.3), 0.0, 0.0, 0.0, 0.0, 0.0, rgb(0.0, 0.0, 0.0))\n"
+      "export fn mirror_glass(h: Hit) -> Material = metallic_roughness(h, rgb(1.0, 1.0, 1.0), 0.0, 0.0, 1.0, 0.0, 0.0, rgb(0.0, 0.0, 0.0))\n",
+      {"black_metal", "dark_metal", "mirror", "mirror_glass"});
+  ASSERT_EQ(c.bindings.bindings.size(), 4u);
+  for (int m = 0; m < 2; ++m) {
+    const float base = m == 0 ? 0.0f : 0.01f;
+    Shaded s = shade(c.bindings.bindings[size_t(m)]);
+    ASSERT_TRUE(s.result.ok);
+    ASSERT_EQ(s.bsdf.lobeCount(), 1);
+    const Lobe& metal = s.bsdf.lobe(0);
+    ASSERT_EQ(metal.kind, LobeKind::SmoothConductor);
+    // glTF: F = base + (1 - base)(1 - cos)^5 for a metal.
+    for (float cosTheta : {1.0f, 0.53f, 0.37f, 0.2f}) {
+      const float schlick = base + (1.0f - base) * std::pow(1.0f - cosTheta, 5.0f);
+      const Spectrum f = fresnelConductor(cosTheta, metal.a, metal.b);
+      for (int k = 0; k < 4; ++k) EXPECT_NEAR(f[k], schlick, 0.02f + 0.15f * schlick) << base << " cos " << cosTheta;
+    }
+  }
+  for (int m = 2; m < 4; ++m) {
+    Shaded s = shade(c.bindings.bindings[size_t(m)]);
+    ASSERT_TRUE(s.result.ok);
+    ASSERT_EQ(s.bsdf.lobeCount(), 1) << m;  // nothing diffuse, nothing transmitted
+    const Lobe& mirror = s.bsdf.lobe(0);
+    ASSERT_EQ(mirror.kind, LobeKind::SmoothConductor);
+    for (float cosTheta : {1.0f, 0.5f, 0.1f}) {
+      const Spectrum f = fresnelConductor(cosTheta, mirror.a, mirror.b);
+      for (int k = 0; k < 4; ++k) EXPECT_FLOAT_EQ(f[k] * mirror.weight[k], 1.0f) << m;
+    }
+  }
+}
+
 TEST(ClosureLobes, SheenOverOtherBasesFailsCleanly) {
   // Only Lambertian bases are scaled under a sheen; nested coats are not supported either.
   const Compiled c = compileEntries(

@@ -844,6 +844,56 @@ TEST_F(GltfMutated, MaterialExtensionsAndTextureTransforms) {
   EXPECT_TRUE(anyContains(scene->warnings, "VENDOR_unknown"));
 }
 
+// Values outside the specification's ranges are clamped with a warning, and numbers beyond a
+// float fall back to the default with one: they had been taken silently (a negative emissive
+// strength blacked out the scene, a negative factor made negative pixels, 1e39 became inf and
+// a black object, "abc" read as the default). KHR_materials_ior's 0 is valid and kept.
+TEST_F(GltfMutated, OutOfRangeMaterialValuesAreClampedWithAWarning) {
+  const auto load = [&](const json& pbr, const json& extensions, const json& emissive) {
+    json doc = base_;
+    json& m = doc["materials"][0];
+    for (const auto& [k, v] : pbr.items()) m["pbrMetallicRoughness"][k] = v;
+    if (!emissive.is_null()) m["emissiveFactor"] = emissive;
+    m["extensions"] = extensions;
+    std::vector<std::string> errors;
+    auto scene = loadGltf(write("ranges.gltf", doc.dump()), errors);
+    EXPECT_TRUE(scene.has_value()) << (errors.empty() ? "" : errors[0]);
+    return scene;
+  };
+  auto scene = load({{"roughnessFactor", -0.5}, {"metallicFactor", 2}},
+                    {{"KHR_materials_emissive_strength", {{"emissiveStrength", -2}}},
+                     {"KHR_materials_transmission", {{"transmissionFactor", 2}}},
+                     {"KHR_materials_ior", {{"ior", 0.5}}},
+                     {"KHR_materials_volume", {{"thicknessFactor", 1}, {"attenuationDistance", -1}, {"attenuationColor", {2, 0.5, -1}}}}},
+                    {-1, 0.5, 0.5});
+  ASSERT_TRUE(scene);
+  const GltfMaterial& g = scene->materials[0];
+  EXPECT_EQ(g.roughnessFactor, 0.0f);
+  EXPECT_EQ(g.metallicFactor, 1.0f);
+  EXPECT_EQ(g.emissiveStrength, 0.0f);
+  EXPECT_EQ(g.emissiveFactor, Vec3(0, 0.5f, 0.5f));
+  EXPECT_EQ(g.transmissionFactor, 1.0f);
+  EXPECT_EQ(g.ior, 1.5f);
+  EXPECT_EQ(g.attenuationColor, Vec3(1, 0.5f, 0));
+  for (const char* what : {"roughnessFactor -0.5", "metallicFactor 2", "emissiveStrength -2", "emissiveFactor component -1",
+                           "transmissionFactor 2", "ior 0.5", "attenuationDistance -1", "attenuationColor component 2"})
+    EXPECT_TRUE(anyContains(scene->warnings, what)) << what;
+  scene = load(json::object(),
+               {{"KHR_materials_emissive_strength", {{"emissiveStrength", 1e39}}}, {"KHR_materials_ior", {{"ior", "abc"}}}},
+               {1e39, 1, 1});
+  ASSERT_TRUE(scene);
+  EXPECT_EQ(scene->materials[0].emissiveStrength, 1.0f);
+  EXPECT_EQ(scene->materials[0].ior, 1.5f);
+  EXPECT_EQ(scene->materials[0].emissiveFactor, Vec3(0.0f));
+  EXPECT_TRUE(anyContains(scene->warnings, "emissiveStrength is not a number within the range of a 32-bit float"));
+  EXPECT_TRUE(anyContains(scene->warnings, "ior is not a number within the range of a 32-bit float"));
+  EXPECT_TRUE(anyContains(scene->warnings, "emissiveFactor is not 3 finite numbers"));
+  scene = load(json::object(), {{"KHR_materials_ior", {{"ior", 0}}}}, nullptr);
+  ASSERT_TRUE(scene);
+  EXPECT_EQ(scene->materials[0].ior, 0.0f);
+  EXPECT_FALSE(anyContains(scene->warnings, "ior"));
+}
+
 // A normal-mapped material on a mesh without TANGENT gets per-vertex tangents (of the normal
 // texture's uv set); without a normal map nothing is generated.
 TEST_F(GltfMutated, NormalMapsWithoutTangentsGetVertexTangents) {
@@ -941,6 +991,37 @@ TEST_F(GltfMutated, SpotLightAndCamerasOnRotatedNodes) {
     ASSERT_EQ(darkScene->lights.size(), 1u);
     EXPECT_EQ(darkScene->lights[0].intensity, 0.0f);
     EXPECT_TRUE(anyContains(darkScene->warnings, "clamped to 0"));
+  }
+  {
+    // Malformed or out-of-range light values are reported, not taken silently: a negative
+    // colour component had made negative pixels, a colour of four numbers rendered white, an
+    // intensity "10" rendered at 1, and values beyond a float overflowed to a dark light.
+    const auto lightWith = [&](const char* key, const json& value, std::vector<std::string>& warnings) -> std::optional<LightDesc> {
+      json bad = doc;
+      bad["extensions"]["KHR_lights_punctual"]["lights"][0][key] = value;
+      std::vector<std::string> badErrors;
+      const auto badScene = loadGltf(write("bad_light.gltf", bad.dump()), badErrors);
+      EXPECT_TRUE(badScene.has_value());
+      if (!badScene) return std::nullopt;
+      warnings = badScene->warnings;
+      if (badScene->lights.empty()) return std::nullopt;
+      return badScene->lights[0];
+    };
+    std::vector<std::string> warnings;
+    std::optional<LightDesc> l2 = lightWith("color", {1, -1, 1}, warnings);
+    ASSERT_TRUE(l2);
+    EXPECT_EQ(l2->emission.rgb, Vec3(1, 0, 1));
+    EXPECT_TRUE(anyContains(warnings, "light 0 has a negative colour component; clamped to 0"));
+    l2 = lightWith("color", {1, 0, 0, 1}, warnings);
+    ASSERT_TRUE(l2);
+    EXPECT_TRUE(anyContains(warnings, "light 0 has a colour that is not three finite numbers; white is used"));
+    l2 = lightWith("intensity", "10", warnings);
+    ASSERT_TRUE(l2);
+    EXPECT_TRUE(anyContains(warnings, "light 0 has an intensity that is not a number; 1 is used"));
+    EXPECT_FALSE(lightWith("intensity", 1e39, warnings));
+    EXPECT_TRUE(anyContains(warnings, "beyond the range of a 32-bit float; ignored"));
+    EXPECT_FALSE(lightWith("color", {1e39, 1, 1}, warnings));
+    EXPECT_TRUE(anyContains(warnings, "light 0 has a colour beyond the range of a 32-bit float; ignored"));
   }
   ASSERT_EQ(scene->cameras.size(), 2u);
   const CameraDesc& c = scene->cameras[0];

@@ -416,6 +416,30 @@ TEST(Light, SpotFalloffIsGltfs) {
   }
 }
 
+// Narrow spots reach full intensity on their axis and keep glTF's ramp: the spec's pseudocode
+// bound cos(inner) - cos(outer) below by 0.001, so a 1-degree spot lit its own axis at 2 % of
+// its intensity, and below 0.014 degrees cos(outer) rounded to 1 and the spot went dark.
+TEST(Light, NarrowSpotsLightTheirAxisFully) {
+  for (const float outerDeg : {1.0f, 0.05f, 0.001f}) {
+    const float outer = outerDeg * kPi / 180.0f, inner = 0.5f * outer;
+    const SpotLight light(Vec3(0, 2, 0), Vec3(0, -1, 0), SpectrumSource::constant(10.0f), inner, outer);
+    auto falloffAt = [&](float angle) -> double {
+      const std::optional<LightLiSample> s = light.sampleLi(Vec3(2.0f * std::tan(angle), 0.0f, 0.0f), Vec2(0.5f), kLambda);
+      return s ? double(s->L[0]) * s->distance * s->distance / 10.0 : 0.0;
+    };
+    EXPECT_NEAR(falloffAt(0.0f), 1.0, 1e-5) << outerDeg;
+    EXPECT_NEAR(falloffAt(0.4f * outer), 1.0, 1e-5) << outerDeg;
+    // Halfway through the band, in 1 - cos (about the squared angle for narrow cones).
+    const double a = 0.75 * outer, vIn = 1 - std::cos(double(inner)), vOut = 1 - std::cos(double(outer));
+    const double t = (vOut - (1 - std::cos(a))) / (vOut - vIn);
+    EXPECT_NEAR(falloffAt(float(a)), t * t, 2e-3) << outerDeg;
+    EXPECT_EQ(falloffAt(1.05f * outer), 0.0) << outerDeg;
+    // Power: 2 pi I times the falloff integrated over cos, v_inner + (v_outer - v_inner) / 3.
+    const double integral = vIn + (vOut - vIn) / 3.0;
+    EXPECT_NEAR(light.power() / SpectrumSource::constant(10.0f).luminance(), 2.0 * kPi * integral, 1e-3 * 2.0 * kPi * integral);
+  }
+}
+
 TEST(Light, DirectionalEmitsParallelRaysThroughTheSceneDisk) {
   DirectionalLight light(glm::normalize(Vec3(1, -2, 0.5f)), SpectrumSource::constant(3.0f));
   SceneSphere sphere{Vec3(1, 2, 3), 4.0f};
@@ -551,6 +575,28 @@ TEST(Light, ImageEnvironmentRotatesWithItsTransform) {
   EXPECT_NEAR(plain->power(), rotated->power(), 1e-5f * plain->power());
 }
 
+// A matrix that shears (not a rotation times a scale) orients the sky by its nearest rotation,
+// the same one for light samples and for rays: normalising its columns had sent samples out
+// through one matrix and looked rays up through its transpose, which is no inverse (the sun
+// that lit the scene was 10 degrees from the one rays saw). Scene files refuse such matrices.
+TEST(Light, ImageEnvironmentSamplesAndRaysSeeOneSkyUnderAShearingMatrix) {
+  const TempEnvironmentFile file("tex_light_test_shear_env", false);
+  const Mat4 sheared = glm::scale(Mat4(1.0f), Vec3(1, 3, 1)) * glm::rotate(Mat4(1.0f), 0.7f, Vec3(0, 0, 1));
+  std::string error;
+  std::unique_ptr<ImageEnvironment> light = loadImageEnvironment(file.path, sheared, 1.0f, error);
+  ASSERT_TRUE(light) << error;
+  sampling::Pcg32 rng(14, 5);
+  int mismatches = 0;
+  for (int i = 0; i < 4000; ++i) {
+    const std::optional<LightLiSample> s = light->sampleLi(Vec3(0.0f), next2(rng), kLambda);
+    ASSERT_TRUE(s);
+    const float pdf = light->pdfLi(Vec3(0.0f), s->wi, nullptr);
+    const Spectrum le = light->Le(Ray{Vec3(0.0f), s->wi}, kLambda);
+    if (std::fabs(pdf - s->pdfW) > 1e-4f * s->pdfW || std::fabs(le[1] - s->L[1]) > 1e-4f * s->L[1]) ++mismatches;
+  }
+  EXPECT_LE(mismatches, 10);  // only directions that round onto a pixel boundary
+}
+
 TEST(Light, ImageEnvironmentSampleLeMatchesPdfLe) {
   const TempEnvironmentFile file("tex_light_test_le_env", false);
   std::string error;
@@ -641,6 +687,35 @@ TEST(Light, SamplerPicksInProportionToPower) {
   const Light* darkOnly[] = {&dark, &dark};
   EXPECT_FALSE(LightSampler(darkOnly).sample(0.5f));
   EXPECT_FALSE(LightSampler(std::span<const Light* const>()).sample(0.5f));
+}
+
+// A power that overflows a float (4 pi I for I = 3e38, or a sun over a scene of huge bounds)
+// still gets chosen; it had been left out like a broken light, and a scene lit by it alone was
+// black. NaN powers stay out. A light whose intensity times emission overflows is an error.
+TEST(Light, OverflowingPowersAreChosenAndOverflowingEmissionIsAnError) {
+  const FixedPowerLight huge(INFINITY), dim(1.0f), broken(NAN);
+  const Light* lights[] = {&dim, &huge, &broken};
+  const LightSampler sampler(lights);
+  EXPECT_GT(sampler.pmf(1), 0.99f);
+  EXPECT_GT(sampler.pmf(0), 0.0f);
+  EXPECT_EQ(sampler.pmf(2), 0.0f);
+  EXPECT_EQ(sampler.sample(0.5f)->first, 1);
+  LightDesc desc;
+  desc.kind = LightDesc::Kind::Point;
+  desc.name = "bright";
+  desc.emission.kind = SpectrumDesc::Kind::Rgb;
+  desc.emission.rgb = Vec3(1.0f);
+  desc.intensity = 1e38f;  // its luminance is a float, its power 4 pi I is not
+  std::string error;
+  std::unique_ptr<Light> point = makeLight(desc, error);
+  ASSERT_TRUE(point) << error;
+  EXPECT_EQ(point->power(), INFINITY);
+  const Light* alone[] = {point.get()};
+  EXPECT_EQ(LightSampler(alone).pmf(0), 1.0f);
+  desc.intensity = 1e20f;
+  desc.emission.scale = 1e20f;
+  EXPECT_FALSE(makeLight(desc, error));
+  EXPECT_NE(error.find("light 'bright': its intensity times its emission overflows a 32-bit float"), std::string::npos) << error;
 }
 
 TEST(Light, SamplerCountingAndBinarySearchPickTheSameLight) {

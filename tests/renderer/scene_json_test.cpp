@@ -304,7 +304,15 @@ TEST(SceneJson, AmbiguousOrIgnoredSettingsAreErrors) {
             std::string::npos);
   EXPECT_NE(firstError(R"({"pbr_materials": {"M": {"base_color": [2, 0.5, 0.5]}}})").find("components must be in [0, 1]"),
             std::string::npos);
+  // An environment's orientation from a matrix that shears: no rotation to take.
+  EXPECT_NE(firstError(R"({"lights": [{"type": "environment", "transform": {"matrix": [1, 0, 0, 0, 1, 3, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]}}]})")
+                .find("an environment's transform must be a rotation"),
+            std::string::npos);
   std::vector<std::string> errors;
+  // A rotation with a scale and a translation is fine.
+  ASSERT_TRUE(parse(R"({"lights": [{"type": "environment", "transform": {"rotate": [0, 1, 0, 40], "scale": [1, 3, 1], "translate": [1, 2, 3]}}]})",
+                    errors))
+      << errors[0];
   auto scene = parse(R"({"lights": [{"type": "environment", "emission": {"rgb": [1, 1, 1], "as": "illuminant"}}],
                          "materials": [{"match": {"material": "M"}, "file": "walls.tex", "entry": "white", "params": {"f": 3000000000}}]})",
                      errors);
