@@ -449,7 +449,7 @@ Node* Builder::builtinCall(const std::string& name, std::vector<TypedArg> args, 
     if (!f->type->isCallable() || f->type->kind == TypeKind::BuiltinRef)
       return noOverload("(n: Int, init, f) where f is a lambda or a named function");
     Node* init = args[1].node;
-    int idx = instantiateCallable(f->type, {init->type, types.integer()}, args[2].span);
+    int idx = foldStep(f, init->type, args[2].span);
     if (idx < 0) return errorNode(callSpan);
     const Type* result = program.functions[idx].resultType;
     if (result->isError()) return errorNode(callSpan);
@@ -457,7 +457,7 @@ Node* Builder::builtinCall(const std::string& name, std::vector<TypedArg> args, 
       // An Int accumulator whose step gives Float becomes a Float accumulator.
       if (init->type->kind == TypeKind::Int && result->kind == TypeKind::Float) {
         init = toFloat(init, args[1].span);
-        idx = instantiateCallable(f->type, {init->type, types.integer()}, args[2].span);
+        idx = foldStep(f, init->type, args[2].span);
         if (idx < 0) return errorNode(callSpan);
         result = program.functions[idx].resultType;
       }
@@ -474,6 +474,41 @@ Node* Builder::builtinCall(const std::string& name, std::vector<TypedArg> args, 
     return n;
   }
   return noOverload("a known builtin");
+}
+
+// fold calls its step as an ordinary call f(acc, i) (docs/language.md 4.3): arity, named
+// parameters' defaults and annotations apply as at any call site. The step is a function of
+// (the closure for a lambda, acc, i) whose body is that call. fold had instantiated f with the
+// argument types directly, so a step's default was never bound, a step of the wrong arity gave
+// no diagnostic, and annotations were ignored (fn step(acc: Float, i: Float) folded Ints).
+int Builder::foldStep(Node* f, const Type* acc, Span at) {
+  Builder body(impl, module);
+  std::vector<const Type*> paramTypes;
+  Node* callee = f;  // a named function is called by its declaration, never evaluated
+  if (f->type->kind == TypeKind::Lambda) {
+    callee = body.local(body.declareLocal("", f->type), f->type, at);
+    paramTypes.push_back(f->type);
+  }
+  const int accSlot = body.declareLocal("", acc);
+  const int indexSlot = body.declareLocal("", types.integer());
+  paramTypes.push_back(acc);
+  paramTypes.push_back(types.integer());
+  std::vector<TypedArg> callArgs(2);
+  callArgs[0].span = callArgs[1].span = at;
+  callArgs[0].node = body.local(accSlot, acc, at);
+  callArgs[1].node = body.local(indexSlot, types.integer(), at);
+  Node* result = body.apply(callee, at, std::move(callArgs), at, nullptr);
+  hadError_ |= body.hadError();
+  if (result->type->isError()) return -1;
+  ir::Function fn;
+  fn.name = "<fold step>";
+  fn.span = at;
+  fn.paramTypes = std::move(paramTypes);
+  fn.resultType = result->type;
+  fn.body = result;
+  fn.numSlots = body.numSlots();
+  program.functions.push_back(std::move(fn));
+  return int(program.functions.size()) - 1;
 }
 
 }  // namespace tex::lang

@@ -58,6 +58,9 @@ class Builder {
                   const Type* fnAnnotation);
   // Instantiates a callable with argument types; returns the IR function index or -1.
   int instantiateCallable(const Type* callable, const std::vector<const Type*>& args, Span at);
+  // fold's step: a function of (closure for a lambda, acc, i) whose body is the ordinary call
+  // f(acc, i); returns its IR function index or -1 (builtins.cpp).
+  int foldStep(ir::Node* f, const Type* acc, Span at);
 
   // builtins.cpp
   ir::Node* builtinCall(const std::string& name, std::vector<TypedArg> args, Span calleeSpan, Span callSpan);
