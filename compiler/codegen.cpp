@@ -776,12 +776,14 @@ class Codegen {
     return callee;
   }
 
-  // An Image constant: handles are process-specific, so the code names the file and asks the
-  // runtime once per module (docs/abi.md, "Images"); the answer is cached in a global.
+  // An Image constant: handles are process-specific, so the code names the file and its identity
+  // (size, mtime: a value made before the file changed keeps the old image, as in the
+  // interpreter) and asks the runtime once per module (docs/abi.md, "Images"); the answer is
+  // cached in a global.
   llvm::Value* imageHandle(int32_t handle) {
     const lang::LoadedImage* image = lang::ImageTable::global().get(handle);
     if (!image) return b_.getInt32(uint32_t(-1));
-    auto key = std::make_pair(image->path, image->data);
+    auto key = std::make_tuple(image->path, image->data, image->fileBytes, image->mtimeNs);
     auto it = imageGlobals_.find(key);
     if (it == imageGlobals_.end()) {
       llvm::Constant* text = llvm::ConstantDataArray::getString(context_, image->path);
@@ -791,8 +793,10 @@ class Codegen {
       cache->setAlignment(llvm::Align(4));
       it = imageGlobals_.emplace(key, std::make_pair(path, cache)).first;
     }
-    llvm::FunctionCallee resolve = runtimeFunction("tex_rt_image_handle", i32_, {ptrTy_, i32_, ptrTy_});
-    return b_.CreateCall(resolve, {it->second.first, b_.getInt32(image->data ? 1 : 0), it->second.second});
+    llvm::FunctionCallee resolve =
+        runtimeFunction("tex_rt_image_handle", i32_, {ptrTy_, i32_, ptrTy_, b_.getInt64Ty(), b_.getInt64Ty()});
+    return b_.CreateCall(resolve, {it->second.first, b_.getInt32(image->data ? 1 : 0), it->second.second,
+                                   b_.getInt64(image->fileBytes), b_.getInt64(uint64_t(image->mtimeNs))});
   }
 
   // (image, uv, duvdx, duvdy, wrap) -> RGBA through tex_rt_image_lookup, the interpreter's code.
@@ -826,7 +830,8 @@ class Codegen {
   lang::ir::WavelengthDependence dependence_;  // closure flags, analysed once per compile
   std::map<FunctionKey, llvm::Function*> functions_;
   std::unordered_map<const Type*, llvm::Type*> lowered_;
-  std::map<std::pair<std::string, bool>, std::pair<llvm::GlobalVariable*, llvm::GlobalVariable*>> imageGlobals_;  // path, cache
+  std::map<std::tuple<std::string, bool, uint64_t, int64_t>, std::pair<llvm::GlobalVariable*, llvm::GlobalVariable*>>
+      imageGlobals_;  // (path, data, bytes, mtime) -> (path, cache)
   std::map<int, uint64_t> callSites_, ownSize_;
   std::set<int> loops_;      // functions whose own body has a fold
   std::set<int> foldSteps_;  // functions called as a fold's step

@@ -36,9 +36,11 @@ std::unique_ptr<llvm::Module> generateModule(llvm::LLVMContext& context, const l
                                              std::string& error);
 
 // The names of the runtime functions compiled code calls (bound as absolute symbols).
-// The handle of image `path` (a canonical path, NUL-terminated; `data` as image_data()), cached
-// in *cache (an int32 initialised to -1, one per image constant of a module).
-extern "C" int32_t tex_rt_image_handle(const char* path, int32_t data, int32_t* cache);
+// The handle of image `path` (a canonical path, NUL-terminated; `data` as image_data()) as it was
+// when the code was checked (its size and mtime; the latest load if this process has no such
+// version), cached in *cache (an int32 initialised to -1, one per image constant of a module).
+extern "C" int32_t tex_rt_image_handle(const char* path, int32_t data, int32_t* cache, uint64_t fileBytes,
+                                       int64_t mtimeNs);
 // An image lookup (lang::imageLookup): `filter` is a lang::ImageFilter; writes RGBA to out[4].
 extern "C" void tex_rt_image_lookup(int32_t filter, int32_t handle, int32_t wrap, float u, float v, float dudx,
                                     float dvdx, float dudy, float dvdy, float* out);

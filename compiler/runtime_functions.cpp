@@ -9,13 +9,15 @@
 
 namespace tex::compiler {
 
-// Handles are process-specific, so compiled (and cached) code names images by path and
-// resolves each once per loaded module; threads racing here store the same value.
-extern "C" int32_t tex_rt_image_handle(const char* path, int32_t data, int32_t* cache) {
+// Handles are process-specific, so compiled (and cached) code names images by path and the
+// file's identity when it was checked, and resolves each once per loaded module; threads racing
+// here store the same value.
+extern "C" int32_t tex_rt_image_handle(const char* path, int32_t data, int32_t* cache, uint64_t fileBytes,
+                                       int64_t mtimeNs) {
   std::atomic_ref<int32_t> slot(*cache);
   int32_t handle = slot.load(std::memory_order_acquire);
   if (handle >= 0) return handle;
-  handle = lang::ImageTable::global().resolve(path, data != 0);
+  handle = lang::ImageTable::global().resolve(path, data != 0, fileBytes, mtimeNs);
   if (handle >= 0) slot.store(handle, std::memory_order_release);
   return handle;
 }

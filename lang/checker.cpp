@@ -225,6 +225,9 @@ Node* Builder::checkBinary(const Expr* e) {
     std::string help;
     if ((tx->kind == TypeKind::Color && ty->isVector()) || (ty->kind == TypeKind::Color && tx->isVector()))
       help = "convert explicitly with color(v) or vec3(c)";
+    else if (e->binaryOp >= BinaryOp::Eq && e->binaryOp <= BinaryOp::Ge &&
+             (tx->kind == TypeKind::Spectrum || ty->kind == TypeKind::Spectrum))
+      help = "a Spectrum cannot be compared (its lanes are the path's wavelengths); compare values derived from it";
     else if (tx->kind == TypeKind::Spectrum || ty->kind == TypeKind::Spectrum)
       help = "Spectrum combines with Float, Int and Spectrum only";
     error("E0402", e->opSpan,

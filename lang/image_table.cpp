@@ -79,13 +79,16 @@ ImageLoadResult ImageTable::load(const std::string& rawPath, bool data) {
   chunk->slots[handle & ((1 << kChunkBits) - 1)].store(image.get(), std::memory_order_release);
   owned_.push_back(std::move(image));
   byPath_[key] = handle;
+  byVersion_[std::make_tuple(key.first, data, bytes, mtime)] = handle;
   result.handle = handle;
   return result;
 }
 
-int32_t ImageTable::resolve(const std::string& canonicalPath, bool data) {
+int32_t ImageTable::resolve(const std::string& canonicalPath, bool data, uint64_t fileBytes, int64_t mtimeNs) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
+    if (auto it = byVersion_.find(std::make_tuple(canonicalPath, data, fileBytes, mtimeNs)); it != byVersion_.end())
+      return it->second;
     if (auto it = byPath_.find(std::make_pair(canonicalPath, data)); it != byPath_.end()) return it->second;
   }
   return load(canonicalPath, data).handle;

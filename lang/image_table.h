@@ -8,6 +8,7 @@
 #include <memory>
 #include <mutex>
 #include <string>
+#include <tuple>
 #include <vector>
 
 namespace tex::lang {
@@ -44,10 +45,11 @@ class ImageTable {
   // Loads `path` (or returns the handle of its earlier load if the file's size and mtime are
   // unchanged; a changed file gets a new handle, old handles stay valid). Thread-safe.
   ImageLoadResult load(const std::string& path, bool data);
-  // The latest handle loaded for `canonicalPath` (as LoadedImage::path), loading it if this
-  // process has not yet; -1 if that fails. For compiled code, whose handles are resolved
-  // at run time (docs/abi.md, "Images").
-  int32_t resolve(const std::string& canonicalPath, bool data);
+  // The handle this process loaded for `canonicalPath` (as LoadedImage::path) when the file had
+  // `fileBytes` and `mtimeNs`, so that a value made before the file changed keeps its image
+  // (language.md); else the latest, loading it if this process has not yet; -1 if that fails.
+  // For compiled code, whose handles are resolved at run time (docs/abi.md, "Images").
+  int32_t resolve(const std::string& canonicalPath, bool data, uint64_t fileBytes, int64_t mtimeNs);
   // Lock-free; null for a handle that was never returned.
   const LoadedImage* get(int32_t handle) const;
 
@@ -62,7 +64,9 @@ class ImageTable {
   std::mutex mutex_;
   std::atomic<Chunk*> chunks_[kChunks] = {};
   int32_t count_ = 0;                                    // under mutex_
-  std::map<std::pair<std::string, bool>, int32_t> byPath_;  // under mutex_
+  std::map<std::pair<std::string, bool>, int32_t> byPath_;  // under mutex_: the latest load
+  // Every load by its file's identity (path, data, bytes, mtime), under mutex_.
+  std::map<std::tuple<std::string, bool, uint64_t, int64_t>, int32_t> byVersion_;
   std::vector<std::unique_ptr<LoadedImage>> owned_;      // under mutex_
   std::vector<std::unique_ptr<Chunk>> ownedChunks_;      // under mutex_
 };

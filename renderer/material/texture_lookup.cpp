@@ -10,6 +10,13 @@ namespace tex::render {
 
 namespace {
 
+// A texel coordinate held within +-2^30, so that its floor, the conversion to int and the +1 of
+// the neighbour stay defined (beyond 2^31 the conversion had given INT_MIN: a clamped texture
+// returned its left edge for u * width >= 2^31; an overflow to inf gave NaN). Coordinates that
+// large are past a float's texel precision, so only clamping means anything there, and it stays
+// exact.
+float heldCoordinate(float x) { return std::clamp(x, -1073741824.0f, 1073741824.0f); }
+
 int wrapIndex(int i, int n, WrapMode mode) {
   if (unsigned(i) < unsigned(n)) return i;  // inside the image: every mode keeps it (no division)
   switch (mode) {
@@ -109,7 +116,7 @@ Vec4 lookupTexture(const SceneDescription& scene, const TextureRef& ref, Vec2 uv
     uv = Vec2(c * s.x + r * s.y, -r * s.x + c * s.y) + ref.offset;
   }
   if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) return fallback;
-  const float x = uv.x * float(img.width) - 0.5f, y = uv.y * float(img.height) - 0.5f;
+  const float x = heldCoordinate(uv.x * float(img.width) - 0.5f), y = heldCoordinate(uv.y * float(img.height) - 0.5f);
   if (ref.nearest) {
     const int ix = wrapIndex(int(std::floor(x + 0.5f)), img.width, ref.wrapS);
     const int iy = wrapIndex(int(std::floor(y + 0.5f)), img.height, ref.wrapT);
@@ -117,8 +124,9 @@ Vec4 lookupTexture(const SceneDescription& scene, const TextureRef& ref, Vec2 uv
   }
   const float fx = std::floor(x), fy = std::floor(y);
   const float tx = x - fx, ty = y - fy;
-  const int x0 = wrapIndex(int(fx), img.width, ref.wrapS), x1 = wrapIndex(int(fx) + 1, img.width, ref.wrapS);
-  const int y0 = wrapIndex(int(fy), img.height, ref.wrapT), y1 = wrapIndex(int(fy) + 1, img.height, ref.wrapT);
+  const int ix = int(fx), iy = int(fy);
+  const int x0 = wrapIndex(ix, img.width, ref.wrapS), x1 = wrapIndex(ix + 1, img.width, ref.wrapS);
+  const int y0 = wrapIndex(iy, img.height, ref.wrapT), y1 = wrapIndex(iy + 1, img.height, ref.wrapT);
   return (texel(img, x0, y0, srgb) * (1 - tx) + texel(img, x1, y0, srgb) * tx) * (1 - ty) +
          (texel(img, x0, y1, srgb) * (1 - tx) + texel(img, x1, y1, srgb) * tx) * ty;
 }

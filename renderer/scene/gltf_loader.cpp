@@ -17,6 +17,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "renderer/scene/gltf_accessor.h"
+#include "renderer/scene/gltf_data_uris.h"
 #include "renderer/scene/gltf_images.h"
 #include "renderer/scene/gltf_import.h"
 #include "renderer/scene/gltf_pose.h"
@@ -592,6 +593,9 @@ bool parseFile(const std::string& path, tinygltf::Model& model, DecodedImages& d
     return errors.push_back(path + ": the JSON nests arrays and objects more than " + std::to_string(kMaxJsonNesting) +
                             " levels deep"), false;
 
+  const std::vector<int> undecodable = replaceUndecodableImageUris(bytes, binary);
+  for (int i : undecodable) decoded.failures[i] = "its data URI does not decode: not base64, or empty";
+
   tinygltf::TinyGLTF loader;
   tinygltf::FsCallbacks fs{&regularFileExists, &tinygltf::ExpandFilePath, &tinygltf::ReadWholeFile,
                            &tinygltf::WriteWholeFile, nullptr};
@@ -610,7 +614,14 @@ bool parseFile(const std::string& path, tinygltf::Model& model, DecodedImages& d
     err += std::string("tinygltf threw: ") + e.what();
     ok = false;
   }
-  splitLines(warn, path + ": ", warnings);
+  // tinygltf's own words about the replaced URIs (a file not found) would only mislead.
+  std::vector<std::string> tinyWarnings;
+  splitLines(warn, path + ": ", tinyWarnings);
+  for (const std::string& w : tinyWarnings) {
+    bool aboutReplaced = w.find(kUndecodableDataUri) != std::string::npos;
+    for (int i : undecodable) aboutReplaced = aboutReplaced || w.find("image[" + std::to_string(i) + "]") != std::string::npos;
+    if (!aboutReplaced) warnings.push_back(w);
+  }
   if (!ok) {
     if (err.empty()) err = "tinygltf could not parse it";
     splitLines(err, path + ": ", errors);

@@ -204,4 +204,17 @@ for input in 'fold(30, diffuse(rgb(0.5)), |m, i| add_material(m, m))' 'fold(65, 
   grep -q "<material>" <<< "$jit" && fail "a material node printed as <material>: $(echo "$jit" | tail -c 200)"
 done
 
+# An Image value made before its file changed keeps the old image, in the JIT as in the
+# interpreter (language.md: a changed file gets a new handle; values made before keep theirs).
+# Compiled code had resolved images by path alone and followed the new file.
+for mode in "" "--interp"; do
+  cp "$src/tests/conformance/images/quad.png" "$tmp/r.png"
+  out=$(cd "$tmp" && { printf 'let a = image_data("r.png")\nimage_size(a)\n'; sleep 1.5;
+                       cp "$src/tests/conformance/images/odd.png" r.png; touch r.png;
+                       printf 'image_size(image_data("r.png"))\nimage_size(a)\n'; } | timeout 20 "$tex" repl $mode 2>&1)
+  sizes=$(grep -F ': Vec2' <<< "$out" | tr '\n' ' ')
+  [ "$sizes" = "vec2(2.0, 2.0) : Vec2 vec2(3.0, 1.0) : Vec2 vec2(2.0, 2.0) : Vec2 " ] ||
+    fail "an image value made before its file changed (repl $mode): sizes '$sizes' in: $out"
+done
+
 [ "$failures" = 0 ] && echo "ok: tex repl CLI" || exit 1

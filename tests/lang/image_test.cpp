@@ -272,7 +272,8 @@ TEST(ImageTableTest, SameFileLoadsOnceAndAChangedFileGetsANewHandle) {
   // Another spelling of the same path finds the same entry.
   ImageLoadResult again = ImageTable::global().load((dir / "." / "t.png").string(), false);
   EXPECT_EQ(again.handle, first.handle);
-  EXPECT_EQ(ImageTable::global().resolve(ImageTable::global().get(first.handle)->path, false), first.handle);
+  const LoadedImage* firstImage = ImageTable::global().get(first.handle);
+  EXPECT_EQ(ImageTable::global().resolve(firstImage->path, false, firstImage->fileBytes, firstImage->mtimeNs), first.handle);
   // Replace the file with a different image: a new handle; the old one still reads the old data.
   fs::copy_file(kImages + "odd.png", dir / "t.png", fs::copy_options::overwrite_existing);
   ImageLoadResult changed = ImageTable::global().load((dir / "t.png").string(), false);
@@ -280,6 +281,14 @@ TEST(ImageTableTest, SameFileLoadsOnceAndAChangedFileGetsANewHandle) {
   EXPECT_NE(changed.handle, first.handle);
   EXPECT_EQ(ImageTable::global().get(first.handle)->levels[0].width, 2);
   EXPECT_EQ(ImageTable::global().get(changed.handle)->levels[0].width, 3);
+  // Compiled code resolves by the file's identity when it was checked: the old version keeps
+  // its handle (a REPL value made before the change had followed the new file under the JIT),
+  // and an identity this process never loaded gives the latest.
+  const LoadedImage* changedImage = ImageTable::global().get(changed.handle);
+  EXPECT_EQ(ImageTable::global().resolve(firstImage->path, false, firstImage->fileBytes, firstImage->mtimeNs), first.handle);
+  EXPECT_EQ(ImageTable::global().resolve(changedImage->path, false, changedImage->fileBytes, changedImage->mtimeNs),
+            changed.handle);
+  EXPECT_EQ(ImageTable::global().resolve(firstImage->path, false, 1, 2), changed.handle);
   fs::remove_all(dir);
 }
 

@@ -533,6 +533,37 @@ TEST_F(GltfMutated, MissingImageFileIsAWarning) {
   EXPECT_TRUE(anyContains(scene->warnings, "image 7"));
 }
 
+// An image data URI that does not decode (not base64, or empty) is a warning like any image that
+// cannot be read, in .gltf and .glb files alike: tinygltf had failed the whole file ("Failed to
+// decode 'uri' for image[0]", exit 1), and an empty one had thrown.
+TEST_F(GltfMutated, UndecodableImageDataUrisAreWarnings) {
+  for (const char* uri : {"data:image/png;base64,@@@@", "data:image/png;base64,"}) {
+    json doc = base_;
+    doc["images"] = json::array({{{"uri", uri}}, {{"uri", "does_not_exist.png"}}});
+    doc["textures"] = json::array({{{"source", 0}}});
+    doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+    std::string text = doc.dump();
+    while (text.size() % 4) text.push_back(' ');
+    std::string glb = "glTF";
+    const auto u32 = [&](uint32_t v) { glb.append(reinterpret_cast<const char*>(&v), 4); };
+    u32(2);
+    u32(uint32_t(20 + text.size()));
+    u32(uint32_t(text.size()));
+    glb += "JSON" + text;
+    for (const auto& [name, bytes] : {std::pair<std::string, std::string>{"bad_uri.gltf", doc.dump()}, {"bad_uri.glb", glb}}) {
+      std::vector<std::string> errors;
+      auto scene = loadGltf(write(name, bytes), errors);
+      ASSERT_TRUE(scene) << name << ": " << errors[0];
+      EXPECT_EQ(scene->materials[0].baseColorTexture.image, -1);
+      EXPECT_TRUE(anyContains(scene->warnings, "image 0 (undecodable data URI) has no pixels (its data URI does not decode"))
+          << name;
+      EXPECT_FALSE(anyContains(scene->warnings, "image[0]")) << name;
+      EXPECT_TRUE(anyContains(scene->warnings, "image[1]")) << name;  // other images' warnings stay
+      EXPECT_EQ(scene->primitives.size(), 1u);
+    }
+  }
+}
+
 TEST_F(GltfMutated, SparseAccessorOverridesPositions) {
   json doc = base_;
   // Replace vertex 2 by the first normal, (0, 0, 1), through a sparse substitution.

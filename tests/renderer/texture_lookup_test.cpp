@@ -59,6 +59,16 @@ TEST(TextureLookup, TexelCentresBilinearWeightsAndSrgbBeforeFiltering) {
   EXPECT_NEAR(lookupTexture(scene, ref, Vec2(1.25f, 0.5f), Vec2(0.0f), true).x, 0.0f, 1e-6f);
   ref.wrapS = WrapMode::ClampToEdge;
   EXPECT_NEAR(lookupTexture(scene, ref, Vec2(1.25f, 0.5f), Vec2(0.0f), true).x, grey, 1e-6f);
+  // Far beyond the image, clamping still keeps the edge texel on its side (past u * width =
+  // 2^31 the index conversion had overflowed to the left edge), filtered or nearest.
+  for (const bool nearest : {false, true}) {
+    ref.nearest = nearest;
+    for (const float u : {6e5f, 1e6f, 1e12f, 3e38f}) {
+      EXPECT_NEAR(lookupTexture(scene, ref, Vec2(u, 0.5f), Vec2(0.0f), true).x, grey, 1e-6f) << u;
+      EXPECT_NEAR(lookupTexture(scene, ref, Vec2(-u, 0.5f), Vec2(0.0f), true).x, 0.0f, 1e-6f) << u;
+    }
+  }
+  ref.nearest = false;
   // No image: the fallback.
   TextureRef none;
   EXPECT_EQ(lookupTexture(scene, none, Vec2(0.5f), Vec2(0.0f), true, Vec4(7.0f)), Vec4(7.0f));
