@@ -322,6 +322,15 @@ class Lexer {
       if (readDigits(true, underscore) == 0 && !problem) problem = "write hex digits after 0x, e.g. 0x2a";
       if (pos_ < text_.size() && isIdentChar(text_[pos_]) && !problem) problem = "numbers look like 42, 0x2a, 1_000, 1.5 or 2.5e-3";
       while (pos_ < text_.size() && isIdentChar(text_[pos_])) ++pos_;
+      // A hex "float" (0x1.5, 0x1.8p3) is one malformed literal, not an Int and then a '.5'
+      // that cascaded into a second error.
+      if (peek(0) == '.' && (isHexDigit(peek(1)) || peek(1) == 'p' || peek(1) == 'P')) {
+        ++pos_;
+        while (pos_ < text_.size() && (isIdentChar(text_[pos_]) ||
+                                       ((text_[pos_] == '+' || text_[pos_] == '-') && (text_[pos_ - 1] | 0x20) == 'p')))
+          ++pos_;
+        if (!problem) problem = "hex literals are integers; write a float in decimal, e.g. 1.3125";
+      }
       if (problem) return malformedNumber(begin, problem);
       return intToken(begin, digits, 16);
     }
