@@ -39,7 +39,7 @@ const char* kDemoUsage =
     "  -q, --quiet         no progress\n"
     "\n"
     "convergence options:\n"
-    "  --image NAME|all    (default all)   --res WxH (default 16x16)   --max-log2 K (default 20)\n";
+    "  --image NAME|all    (default all)   --res WxH (default 16x16)   --max-log2 K (12..28, default 20)\n";
 
 int usage(const std::string& message) {
   std::fprintf(stderr, "tex demo: error: %s\n%s", message.c_str(), kDemoUsage);
@@ -236,7 +236,9 @@ int runConvergenceDemo(const Args& args) {
     } else if (a == "--res" && hasValue) {
       if (!parseResolution(args[++i], settings.width, settings.height)) return usage("--res needs WxH");
     } else if (a == "--max-log2" && hasValue) {
-      if (!parseIntInRange(args[++i], maxLog2, 10, 28)) return usage("--max-log2 needs 10..28");
+      // Sample counts 2^10, 2^12, ... up to 2^K: the slope needs two of them (K = 10 or 11 had
+      // fitted one point and printed a slope of nan).
+      if (!parseIntInRange(args[++i], maxLog2, 12, 28)) return usage("--max-log2 needs 12..28 (two sample counts or more for a slope)");
     } else {
       return usage("unknown or incomplete option '" + a + "'");
     }

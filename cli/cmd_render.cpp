@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 
 #include "cli/command.h"
 #include "cli/option_values.h"
@@ -32,12 +33,13 @@ const char* kRenderUsage =
     "  --spp N             samples per pixel (default 16)\n"
     "  --time SECONDS      stop starting new work after this long; the image keeps what was done\n"
     "  --threads T         worker threads (default: all cores)\n"
-    "  --seed S            sampler seed (default 0); the same seed gives the same image at any thread count\n"
+    "  --seed S            sampler seed, 0..2^64-1 (default 0); the same seed gives the same image at any\n"
+    "                      thread count\n"
     "  --res WxH           image resolution (default 512x512, or the scene's)\n"
     "  --crop X,Y,W,H      render only this window of the image (pixels; the output is WxH)\n"
     "  --integrator NAME   path (default; the only one so far)\n"
     "  --max-depth N       scattering events per path, 0..1000 (default 8; 0: emitters seen directly)\n"
-    "  --roulette-depth N  Russian roulette may end a path after N scattering events (default 3;\n"
+    "  --roulette-depth N  Russian roulette may end a path after N scattering events, 1..65536 (default 3;\n"
     "                      Mitsuba 3's rr_depth counts the same way)\n"
     "  --wavelengths N     wavelengths per path: 4 or 8 (default 4)\n"
     "  --spectral-mode M   mis | terminate | single: at dispersion keep every wavelength with\n"
@@ -65,7 +67,7 @@ struct RenderFlags {
   std::vector<std::string> outputs;  // -o may repeat: the same render written to each
   int spp = -1, width = -1, height = -1, maxDepth = -1, rouletteDepth = -1, wavelengths = -1, camera = -1;
   int crop[4] = {-1, -1, -1, -1};  // X, Y, W, H in pixels of the image; X < 0: no crop
-  int64_t seed = -1;
+  std::optional<uint64_t> seed;  // any 64-bit value, as render.seed in a scene file
   double timeSeconds = 0;
   int threads = 0;
   sampling::SamplerKind sampler = sampling::SamplerKind::Sobol;
@@ -108,9 +110,8 @@ int parseFlags(const Args& args, RenderFlags& f) {
     } else if (a == "--threads") {
       if (!value() || !parseIntInRange(v, f.threads, 1, 1024)) return usage("--threads needs 1..1024");
     } else if (a == "--seed") {
-      if (!value() || !parseUnsigned(v, count) || count > uint64_t(INT64_MAX))
-        return usage("--seed needs an integer 0.." + std::to_string(INT64_MAX));
-      f.seed = int64_t(count);
+      if (!value() || !parseUnsigned(v, count)) return usage("--seed needs an integer 0.." + std::to_string(UINT64_MAX));
+      f.seed = count;
     } else if (a == "--res") {
       if (!value() || !parseResolution(v, f.width, f.height)) return usage("--res needs WxH, e.g. 640x480");
     } else if (a == "--crop") {
@@ -122,7 +123,8 @@ int parseFlags(const Args& args, RenderFlags& f) {
     } else if (a == "--max-depth") {
       if (!value() || !parseIntInRange(v, f.maxDepth, 0, 1000)) return usage("--max-depth needs 0..1000");
     } else if (a == "--roulette-depth") {
-      if (!value() || !parseIntInRange(v, f.rouletteDepth, 1, 1000)) return usage("--roulette-depth needs 1..1000");
+      // The scene file's range (render.roulette_depth).
+      if (!value() || !parseIntInRange(v, f.rouletteDepth, 1, 1 << 16)) return usage("--roulette-depth needs 1..65536");
     } else if (a == "--wavelengths") {
       if (!value() || (v != "4" && v != "8")) return usage("--wavelengths needs 4 or 8");
       f.wavelengths = std::stoi(v);
@@ -210,7 +212,7 @@ int runRender(const Args& args) {
   if (f.maxDepth >= 0) s.maxDepth = f.maxDepth;  // unset: -1 (0 is a depth: emitters seen directly)
   if (f.rouletteDepth > 0) s.rouletteDepth = f.rouletteDepth;
   if (f.wavelengths > 0) s.wavelengths = f.wavelengths;
-  if (f.seed >= 0) s.seed = uint64_t(f.seed);
+  if (f.seed) s.seed = *f.seed;
   if (f.camera >= 0) s.camera = f.camera;
   if (f.width > 0) {
     s.width = f.width;

@@ -25,7 +25,7 @@ void printUsage(FILE* out) {
   std::sort(sorted.begin(), sorted.end(),
             [](const Command& a, const Command& b) { return std::strcmp(a.name, b.name) < 0; });
   for (const Command& c : sorted) std::fprintf(out, "  %-10s %s\n", c.name, c.summary);
-  std::fprintf(out, "\nRun `tex <command> --help` for a command's options.\n");
+  std::fprintf(out, "\nRun `tex <command> --help` for a command's options; `tex --version` prints the version.\n");
 }
 
 struct MainJob {

@@ -90,6 +90,13 @@ expect_exit 2 "bad output type" "$tex" render "$scene" -o out.jpg
 expect_exit 2 "bad spectral mode" "$tex" render "$scene" --spectral-mode all
 expect_exit 2 "bad roulette depth" "$tex" render "$scene" --roulette-depth 0
 echo "$out" | grep -q "roulette-depth needs" || fail "bad roulette depth not named: $out"
+# The flags take the scene file's ranges: render.seed is any 64-bit value, roulette_depth 1..65536
+# (the flags had stopped at 2^63 - 1 and 1000).
+expect_exit 0 "largest seed" "$tex" render "$scene" --spp 1 --res 8x8 --seed 18446744073709551615 --roulette-depth 65536 -q -o "$tmp/seed.exr"
+expect_exit 2 "seed beyond 64 bits" "$tex" render "$scene" --seed 18446744073709551616
+expect_exit 2 "roulette depth beyond 65536" "$tex" render "$scene" --roulette-depth 65537
+# The convergence demo needs two sample counts for its slope (--max-log2 11 printed nan).
+expect_exit 2 "demo --max-log2 11" "$tex" demo convergence --image step --res 4x4 --max-log2 11
 expect_exit 2 "no scene" "$tex" render
 
 # Bad files: errors (exit 1) naming the file, no crash.
