@@ -69,8 +69,10 @@ int runCompare(const Args& args) {
     } else if (a == "--max-rmse") {
       if (i + 1 >= args.size()) return usage("--max-rmse needs a number");
       char* end = nullptr;
-      maxRmse = std::strtod(args[++i].c_str(), &end);
-      if (*end != '\0' || !(maxRmse >= 0)) return usage("--max-rmse needs a non-negative number");
+      const std::string& text = args[++i];
+      maxRmse = std::strtod(text.c_str(), &end);
+      // An empty value (an unset shell variable) had read as 0, the strictest threshold.
+      if (end == text.c_str() || *end != '\0' || !(maxRmse >= 0)) return usage("--max-rmse needs a non-negative number");
     } else if (!a.empty() && a[0] == '-') {
       return usage("unknown option '" + a + "'");
     } else {

@@ -146,6 +146,13 @@ int runAnalyticDemo(const Args& args) {
     const std::string ext = std::filesystem::path(output).extension().string();
     if (ext != ".exr" && ext != ".png") return usage("output must end in .exr or .png, got '" + output + "'");
   }
+  // The image and the sample file on one path: the image overwrote the samples (as tex render
+  // refuses).
+  if (!output.empty() && !samplesOut.empty()) {
+    std::error_code ec;
+    if (std::filesystem::weakly_canonical(output, ec) == std::filesystem::weakly_canonical(samplesOut, ec))
+      return usage("'" + output + "' is given twice as an output (image and sample file)");
+  }
   for (const std::string& path : {output, samplesOut})
     if (!path.empty())
       if (const std::string problem = outputDirectoryProblem(path); !problem.empty()) {

@@ -9,6 +9,7 @@
 
 #include "cli/command.h"
 #include "cli/option_values.h"
+#include "lang/image_table.h"
 #include "renderer/film/film_sink.h"
 #include "renderer/integrators/path_tracer.h"
 #include "renderer/lights/image_environment.h"
@@ -250,6 +251,20 @@ int runRender(const Args& args) {
   ro.wavelengths = s.wavelengths;
   ro.useCache = !f.noCache;
   std::unique_ptr<render::RenderScene> rs = render::RenderScene::build(scene, ro, error);
+  if (rs) {
+    // An output must not overwrite what the scene was read from (a --samples-out named like
+    // the .glb, an image named like the environment map): checked before rendering.
+    std::vector<std::string> inputs = scene.inputFiles;
+    for (const std::string& p : lang::ImageTable::global().paths()) inputs.push_back(p);
+    std::vector<std::string> targets = f.outputs;
+    if (!f.samplesOut.empty()) targets.push_back(f.samplesOut);
+    for (const std::string& target : targets)
+      for (const std::string& input : inputs) {
+        std::error_code ec;
+        if (std::filesystem::equivalent(target, input, ec) && !ec)
+          return fail("the output '" + target + "' is an input of the scene ('" + input + "'); choose another name");
+      }
+  }
   if (!rs) {
     // Located diagnostics already start with the scene's name (and end with a newline).
     while (!error.empty() && error.back() == '\n') error.pop_back();

@@ -27,8 +27,12 @@ inline bool parseResolution(const std::string& text, int& width, int& height) {
   return true;
 }
 
-// "1000", "4M", "2.5k", "1G" -> a count; also "2^20".
+inline bool parseUnsigned(const std::string& text, uint64_t& value);
+
+// "1000", "4M", "2.5k", "1G" -> a count; also "2^20". Plain integers are read exactly (through a
+// double they rounded above 2^53: a --range of 64-bit indices ran other samples than asked).
 inline bool parseCount(const std::string& text, uint64_t& count) {
+  if (parseUnsigned(text, count)) return true;
   if (text.size() > 2 && text.rfind("2^", 0) == 0) {
     char* end = nullptr;
     const long p = std::strtol(text.c_str() + 2, &end, 10);

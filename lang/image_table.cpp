@@ -84,6 +84,13 @@ ImageLoadResult ImageTable::load(const std::string& rawPath, bool data) {
   return result;
 }
 
+std::vector<std::string> ImageTable::paths() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  std::vector<std::string> out;
+  for (const auto& [key, handle] : byPath_) out.push_back(key.first);
+  return out;
+}
+
 int32_t ImageTable::resolve(const std::string& canonicalPath, bool data, uint64_t fileBytes, int64_t mtimeNs) {
   {
     std::lock_guard<std::mutex> lock(mutex_);

@@ -52,6 +52,8 @@ class ImageTable {
   int32_t resolve(const std::string& canonicalPath, bool data, uint64_t fileBytes, int64_t mtimeNs);
   // Lock-free; null for a handle that was never returned.
   const LoadedImage* get(int32_t handle) const;
+  // The canonical paths of every file this process has loaded (for output-collision checks).
+  std::vector<std::string> paths();
 
   static constexpr int kChunkBits = 8;
   static constexpr int kChunks = 256;  // at most 65536 images per process

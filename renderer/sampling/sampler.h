@@ -5,6 +5,7 @@
 //   2     wavelength group rotation;
 //   3...  the kernel's own dimensions (kFirstKernelDimension).
 #pragma once
+#include <cmath>
 #include <array>
 #include <cstdint>
 #include <memory>
@@ -93,8 +94,18 @@ class Sampler {
     const float cx = point.x * cells, cy = point.y * cells;
     const float ox = cx - float(int(cx)), oy = cy - float(int(cy));  // in [0, 1)
     // Times the reciprocal (exact for power-of-two sizes; a division each was in the profile).
-    return {std::min((float(ps.x) + ox) * pixels_.inverseWidth(), 0x1.fffffep-1f),
-            std::min((float(ps.y) + oy) * pixels_.inverseHeight(), 0x1.fffffep-1f)};
+    return {inPixel(std::min((float(ps.x) + ox) * pixels_.inverseWidth(), 0x1.fffffep-1f), ps.x, pixels_.grid().width),
+            inPixel(std::min((float(ps.y) + oy) * pixels_.inverseHeight(), 0x1.fffffep-1f), ps.y, pixels_.grid().height)};
+  }
+  // The film bins a position f by int(f * size) (film.cpp). At sizes that are not powers of two
+  // the rounded 1/size can put (x + o) / size just below x / size for o = 0, or a rounded x + o
+  // onto x + 1: the sample then landed in a neighbouring pixel, which got one more (a 40000-wide
+  // image had pixels of 2 to 6 samples at 4 spp). Such positions move by ulps into their pixel.
+  static float inPixel(float f, int pixel, int size) {
+    const float fs = float(size);
+    while (int(f * fs) < pixel) f = std::nextafter(f, 1.0f);
+    while (f > 0.0f && int(f * fs) > pixel) f = std::nextafter(f, 0.0f);
+    return f;
   }
   FilmPosition sobolFilmPosition(uint32_t index) const {
     uint32_t x = 0, y = 0;

@@ -564,8 +564,15 @@ bool regularFileExists(const std::string& absolutePath, void*) {
   return std::filesystem::is_regular_file(absolutePath, ec);
 }
 
+// tinygltf's file reader, noting each file it reads (buffers, images) as an input of the scene.
+bool readAndNoteFile(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* inputFiles) {
+  const bool ok = tinygltf::ReadWholeFile(out, err, path, nullptr);
+  if (ok && inputFiles) static_cast<std::vector<std::string>*>(inputFiles)->push_back(path);
+  return ok;
+}
+
 bool parseFile(const std::string& path, tinygltf::Model& model, DecodedImages& decoded,
-               std::vector<std::string>& warnings, std::vector<std::string>& errors) {
+               std::vector<std::string>& warnings, std::vector<std::string>& errors, std::vector<std::string>& inputFiles) {
   std::ifstream file(path, std::ios::binary);
   if (!file) return errors.push_back(path + ": cannot open the file"), false;
   std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
@@ -597,8 +604,8 @@ bool parseFile(const std::string& path, tinygltf::Model& model, DecodedImages& d
   for (int i : undecodable) decoded.failures[i] = "its data URI does not decode: not base64, or empty";
 
   tinygltf::TinyGLTF loader;
-  tinygltf::FsCallbacks fs{&regularFileExists, &tinygltf::ExpandFilePath, &tinygltf::ReadWholeFile,
-                           &tinygltf::WriteWholeFile, nullptr};
+  tinygltf::FsCallbacks fs{&regularFileExists, &tinygltf::ExpandFilePath, &readAndNoteFile, &tinygltf::WriteWholeFile,
+                           &inputFiles};
   loader.SetFsCallbacks(fs);
   decoded.model = &model;
   loader.SetImageLoader(&decodeGltfImage, &decoded);
@@ -640,7 +647,8 @@ bool appendGltf(const std::string& path, const Mat4& transform, SceneDescription
   tinygltf::Model model;
   DecodedImages decoded;
   std::vector<std::string> warnings;
-  if (!parseFile(path, model, decoded, warnings, errors)) return false;
+  scene.inputFiles.push_back(path);
+  if (!parseFile(path, model, decoded, warnings, errors, scene.inputFiles)) return false;
   // glTF 2.x only: a major version change would mean a format this loader does not know.
   if (model.asset.version.rfind("2.", 0) != 0)
     return errors.push_back(path + ": asset.version \"" + model.asset.version + "\" is not glTF 2.x"), false;

@@ -40,6 +40,7 @@ std::optional<SceneDescription> loadScene(const std::string& path, std::string& 
   else if (ext == ".json") scene = loadSceneJson(path, errors);
   else errors.push_back(path + ": unknown scene file type \"" + ext + "\" (expected .gltf, .glb or .json)");
   if (!scene && errors.empty()) errors.push_back(path + ": could not be loaded");
+  if (scene) scene->inputFiles.insert(scene->inputFiles.begin(), path);
   error = joinLines(errors);
   return scene;
 }

@@ -175,6 +175,9 @@ struct SceneDescription {
   RenderSettings settings;
   bool resolutionGiven = false;     // the file set render.resolution (CLI flags still override)
   std::vector<std::string> warnings;  // recoverable problems (missing image, unknown extension)
+  // Every file the scene was read from (the scene file, glTF files and the buffers and images
+  // they load, .tex binding files, environment images): outputs must not overwrite them.
+  std::vector<std::string> inputFiles;
 };
 
 }  // namespace tex::render

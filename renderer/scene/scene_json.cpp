@@ -203,6 +203,7 @@ class SceneJsonLoader {
     if (!r_.child(at, "entry")) return r_.error(at, "missing \"entry\" (the exported material function)");
     if (!r_.string(at, "file", file) || !r_.string(at, "entry", b.entry)) return;
     if (!r_.existingFile(r_.child(at, "file"), file, b.file)) return;
+    scene_.inputFiles.push_back(b.file);
     if (const JsonAt params = r_.child(at, "params")) {
       if (!r_.isObject(params)) return;
       for (auto it = params.j->begin(); it != params.j->end(); ++it) {
@@ -308,6 +309,7 @@ class SceneJsonLoader {
       if (const JsonAt image = r_.child(at, "image")) {
         std::string file;
         if (!r_.string(at, "image", file) || !r_.existingFile(image, file, l.imagePath)) return;
+        scene_.inputFiles.push_back(l.imagePath);
         l.kind = LightDesc::Kind::ImageEnvironment;
       }
       if (const JsonAt t = r_.child(at, "transform"); t) {

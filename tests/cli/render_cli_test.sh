@@ -95,6 +95,24 @@ echo "$out" | grep -q "roulette-depth needs" || fail "bad roulette depth not nam
 expect_exit 0 "largest seed" "$tex" render "$scene" --spp 1 --res 8x8 --seed 18446744073709551615 --roulette-depth 65536 -q -o "$tmp/seed.exr"
 expect_exit 2 "seed beyond 64 bits" "$tex" render "$scene" --seed 18446744073709551616
 expect_exit 2 "roulette depth beyond 65536" "$tex" render "$scene" --roulette-depth 65537
+# Outputs never overwrite the scene's inputs (a --samples-out named like the .glb destroyed it,
+# an image named like the environment map replaced the sky), and the demo's image and sample
+# file cannot share a path.
+mkdir -p "$tmp/inputs"
+cp "$src/scenes/envmap-mitsuba.json" "$src/scenes/envmap_mitsuba.tex" "$src/scenes"/envmap_check.* "$tmp/inputs/"
+sum_before=$(cd "$tmp/inputs" && md5sum * | md5sum)
+expect_exit 1 "image over the environment map" "$tex" render "$tmp/inputs/envmap-mitsuba.json" --res 8x8 --spp 1 -q -o "$tmp/inputs/envmap_check.exr"
+echo "$out" | grep -q "is an input of the scene" || fail "overwriting an input not named: $out"
+expect_exit 1 "samples over the .tex file" "$tex" render "$tmp/inputs/envmap-mitsuba.json" --res 8x8 --spp 1 -q -o "$tmp/inputs/ok.exr" --samples-out "$tmp/inputs/./envmap_mitsuba.tex"
+expect_exit 1 "samples over the scene" "$tex" render "$tmp/inputs/envmap-mitsuba.json" --res 8x8 --spp 1 -q -o "$tmp/inputs/ok.exr" --samples-out "$tmp/inputs/envmap-mitsuba.json"
+[ "$(cd "$tmp/inputs" && rm -f ok.exr && md5sum * | md5sum)" = "$sum_before" ] || fail "a scene input was changed by a refused render"
+expect_exit 2 "demo image and samples on one path" "$tex" demo analytic --samples 1k --res 8x8 -q -o "$tmp/same.exr" --samples-out "$tmp/./same.exr"
+# Index ranges are exact 64-bit integers (they went through a double: above 2^53 other samples ran).
+expect_exit 0 "demo range above 2^53" "$tex" demo analytic --res 8x8 -q --range 9007199254740993:9007199254741001 -o "$tmp/r53.exr"
+echo "$out" | grep -qF "[9007199254740993, 9007199254741001)" || fail "demo range above 2^53 not exact: $out"
+expect_exit 0 "demo range at the top of 64 bits" "$tex" demo analytic --res 8x8 -q --range 18446744073709551000:18446744073709551615 -o "$tmp/r64.exr"
+# An empty threshold is a usage error, not 0 (an unset shell variable).
+expect_exit 2 "compare --max-rmse ''" "$tex" compare "$tmp/r53.exr" "$tmp/r53.exr" --max-rmse ""
 # The convergence demo needs two sample counts for its slope (--max-log2 11 printed nan).
 expect_exit 2 "demo --max-log2 11" "$tex" demo convergence --image step --res 4x4 --max-log2 11
 expect_exit 2 "no scene" "$tex" render

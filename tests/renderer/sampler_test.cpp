@@ -246,6 +246,23 @@ TEST(PixelGrid, EveryPixelGetsItsSamplesFromItsOwnCellOfEachBlock) {
       EXPECT_EQ(*std::max_element(strata.begin(), strata.end()), 1) << c.width << "x" << c.height;
     }
   }
+  // Wide films whose sizes are not powers of two: a sample at the pixel's left edge had been
+  // placed by the rounded 1/W just below x / W, and binned by the film into the pixel to the
+  // left (a 40000x3 render at 4 spp had pixels of 2 to 6 samples).
+  for (const Case c : {Case{40000, 3}, Case{5000, 5}, Case{1920, 8}}) {
+    PixelGrid grid;
+    grid.width = grid.imageWidth = c.width;
+    grid.height = grid.imageHeight = c.height;
+    const Sampler gridded(SamplerKind::Sobol, 9, grid);
+    std::vector<int> counts(size_t(c.width) * size_t(c.height), 0);
+    for (uint64_t i = 0; i < uint64_t(c.width) * uint64_t(c.height) * 4; ++i) {
+      const FilmPosition f = IndexSampler(gridded, i).filmPosition();
+      const int px = std::min(int(f.x * float(c.width)), c.width - 1), py = std::min(int(f.y * float(c.height)), c.height - 1);
+      ++counts[size_t(py) * size_t(c.width) + size_t(px)];
+    }
+    EXPECT_EQ(*std::min_element(counts.begin(), counts.end()), 4) << c.width << "x" << c.height;
+    EXPECT_EQ(*std::max_element(counts.begin(), counts.end()), 4) << c.width << "x" << c.height;
+  }
   // Past 2^32 Sobol indices (large images at high counts) a sample still lands in its pixel.
   {
     PixelGrid grid;
