@@ -282,8 +282,13 @@ Spectrum PathTracer::radiance(const sampling::IndexSampler& samples, const Ray& 
         prevPdfW = bsdfTechniquePdf(bs->wi, bs->pdfW);
       } else {
         // A Dirac dispersive event (or the terminate mode): only the hero's direction exists.
+        // From here the path is the hero's alone (times n), whose estimate f_h / pdf_h takes no
+        // spectral MIS weight: one kept from an earlier rough dispersive vertex (n pdf_h / sum_k
+        // pdf_k) made each lane's expectation the integral of f_j n pdf_j / sum_k pdf_k (a glass
+        // ball in a white furnace reflected 1.1-1.2 of the sky).
         terminateSecondaryWavelengths(beta, n);
         terminated = true;
+        spectralWeight = 1.0f;
       }
     }
     specularBounce = bs->specular;

@@ -44,9 +44,13 @@ SpectrumSource::SpectrumSource(const SpectrumDesc& desc, SpectrumUse use) : desc
     }
   }
   // Tables and Planck's law are resampled once at whole nanometres over the visible range, so
-  // that evaluation at a path's wavelengths is an index and a lerp (exact for tables whose
-  // knots are whole nanometres, as every built-in one is; within 1 nm resolution otherwise).
-  if (desc.kind == SpectrumDesc::Kind::Named || desc.kind == SpectrumDesc::Kind::Tabulated ||
+  // that evaluation at a path's wavelengths is an index and a lerp. That is exact for tables
+  // whose knots are whole nanometres (every built-in one); others are evaluated exactly (a
+  // spike between whole nanometres had been lost, or widened to twice its energy).
+  bool wholeNanometres = true;
+  if (table_)
+    for (const auto& [lambdaNm, value] : *table_) wholeNanometres = wholeNanometres && lambdaNm == std::floor(lambdaNm);
+  if (((desc.kind == SpectrumDesc::Kind::Named || desc.kind == SpectrumDesc::Kind::Tabulated) && wholeNanometres) ||
       desc.kind == SpectrumDesc::Kind::Blackbody) {
     auto dense = std::make_shared<std::vector<float>>(kDenseCount);
     for (int i = 0; i < kDenseCount; ++i) (*dense)[size_t(i)] = atExact(kDenseMinNm + float(i));
@@ -54,6 +58,18 @@ SpectrumSource::SpectrumSource(const SpectrumDesc& desc, SpectrumUse use) : desc
   }
   if (isConstant()) {
     luminance_ = at(560.0f);  // Y of a flat spectrum is its value in both conventions
+  } else if (table_ && !wholeNanometres) {
+    // Knots between whole nanometres: the 1 nm sums below could miss a narrow line entirely
+    // (a laser-like light of luminance 0 is never chosen). Summed at 0.05 nm instead.
+    double y = 0, norm = 0;
+    for (int i = 0; i <= 20 * (kDenseCount - 1); ++i) {
+      const float lambdaNm = kDenseMinNm + 0.05f * float(i);
+      const double bar = color::cieXyzBar(lambdaNm).y;
+      const double weight = use == SpectrumUse::Illuminant ? 1.0 : double(color::d65RelativePower(lambdaNm));
+      y += bar * weight * double(atExact(lambdaNm));
+      norm += bar * weight;
+    }
+    luminance_ = float(use == SpectrumUse::Illuminant ? y * 0.05 / color::kCie1931YIntegralNm : y / norm);
   } else {
     const auto f = [this](float l) { return at(l); };
     luminance_ = use == SpectrumUse::Illuminant ? color::radianceSpectrumToXyz(f).y

@@ -374,5 +374,25 @@ TEST(Spectra, SpectrumSourceEvaluatesEveryKind) {
   EXPECT_THROW(SpectrumSource(desc, SpectrumUse::Reflectance), std::invalid_argument);
 }
 
+// Tables whose knots fall between whole nanometres are evaluated exactly: resampled at whole
+// nanometres, a line 1 nm wide centred on 550 had rendered at twice its energy and one centred
+// on 550.5 had vanished (and with luminance 0 a light of it would never be chosen).
+TEST(Spectra, NarrowLinesBetweenWholeNanometresKeepTheirShapeAndEnergy) {
+  struct Case {
+    float a, peak, b, luminance;  // luminance: 1000 x (b - a) / 2 x ybar(peak) / 106.857
+  };
+  for (const Case c : {Case{549.5f, 550.0f, 550.5f, 4.655f}, Case{550.2f, 550.5f, 550.8f, 2.796f}}) {
+    SpectrumDesc desc;
+    desc.kind = SpectrumDesc::Kind::Tabulated;
+    desc.lambdaNm = {c.a, c.peak, c.b};
+    desc.values = {0.0f, 1000.0f, 0.0f};
+    const SpectrumSource line(desc, SpectrumUse::Illuminant);
+    EXPECT_FLOAT_EQ(line.at(c.peak), 1000.0f);
+    EXPECT_NEAR(line.at(0.5f * (c.a + c.peak)), 500.0f, 0.5f);  // float wavelengths near 550: 6e-5 nm apart
+    EXPECT_EQ(line.at(c.b + 0.1f), 0.0f);
+    EXPECT_NEAR(line.luminance(), c.luminance, 0.01f * c.luminance) << c.peak;
+  }
+}
+
 }  // namespace
 }  // namespace tex::render
