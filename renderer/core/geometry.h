@@ -2,6 +2,7 @@
 // robust ray origins. World space is right-handed, y up (glTF's convention), lengths in metres.
 #pragma once
 #include <cmath>
+#include <limits>
 
 #include <glm/glm.hpp>
 
@@ -95,6 +96,28 @@ inline float maxAbs3(float a, float b, float c) {
 inline Vec3 absMaxPerAxis(const Vec3& a, const Vec3& b) {
   return Vec3(maxAbs3(a.x, b.x, 0.0f), maxAbs3(a.y, b.y, 0.0f), maxAbs3(a.z, b.z, 0.0f));
 }
+// The unit normal of a triangle with edges e1, e2, and the length of their cross product (twice
+// its area); a zero normal and length for a degenerate triangle. In float when that length is a
+// finite non-zero float (the usual case); in double when its square overflows or underflows a
+// float (edges beyond about 4e9, or below about 1e-19), which had made a zero normal (a black,
+// unlit surface) or an infinite area (a light never chosen).
+inline Vec3 triangleUnitNormal(const Vec3& e1, const Vec3& e2, float& crossLength) {
+  const Vec3 n = glm::cross(e1, e2);
+  const float len = std::sqrt(lengthSquared(n));
+  if (len > 0.0f && len <= std::numeric_limits<float>::max()) {
+    crossLength = len;
+    return n / len;
+  }
+  const glm::dvec3 nd = glm::cross(glm::dvec3(e1), glm::dvec3(e2));
+  const double lenD = glm::length(nd);
+  if (!(lenD > 0.0) || !std::isfinite(lenD)) {
+    crossLength = 0.0f;
+    return Vec3(0.0f);
+  }
+  crossLength = float(lenD);
+  return Vec3(nd / lenD);
+}
+
 inline Vec3 trianglePointError(const Vec3& p0, const Vec3& p1, const Vec3& p2) {
   return kTrianglePointRelativeError *
          Vec3(maxAbs3(p0.x, p1.x, p2.x), maxAbs3(p0.y, p1.y, p2.y), maxAbs3(p0.z, p1.z, p2.z));

@@ -47,9 +47,9 @@ Vec3 worldShadingNormal(const glm::mat3& normalToWorld, const Vec3& nObject, con
 TriangleFrame triangleFrame(const Vec3 p[3], const Vec2* uv /* 3 or null */, bool flipWinding) {
   TriangleFrame f;
   const Vec3 e1 = p[1] - p[0], e2 = p[2] - p[0];
-  Vec3 n = glm::cross(e1, e2);
-  const float len = glm::length(n);
-  f.ng = len > 0.0f ? n / len : Vec3(0.0f, 0.0f, 1.0f);
+  float len = 0.0f;
+  const Vec3 n = triangleUnitNormal(e1, e2, len);
+  f.ng = len > 0.0f ? n : Vec3(0.0f, 0.0f, 1.0f);
   if (flipWinding) f.ng = -f.ng;
   if (uv) {
     // Solve [e1 e2] = [dpdu dpdv] [duv1 duv2] for the uv parametrisation's derivatives.
@@ -218,12 +218,18 @@ std::unique_ptr<SceneGeometry> SceneGeometry::build(const SceneDescription& scen
     inst.toWorld = desc.objectToWorld;
     const glm::mat3 linear(desc.objectToWorld);
     const float det = glm::determinant(linear);
-    if (!std::isfinite(det) || det == 0.0f) {
-      // A degenerate transform flattens the mesh: nothing to hit.
-      continue;
+    if (std::isfinite(det) && det != 0.0f) {
+      inst.normalToWorld = glm::transpose(glm::inverse(linear));
+      inst.flipWinding = det < 0.0f;
+    } else {
+      // In double when the float determinant overflows or underflows (a uniform scale above
+      // about 7e12 or below 1e-13: the instance had been dropped silently as degenerate).
+      const glm::dmat3 linearD(linear);
+      const double detD = glm::determinant(linearD);
+      if (!std::isfinite(detD) || detD == 0.0) continue;  // a degenerate transform: nothing to hit
+      inst.normalToWorld = glm::mat3(glm::transpose(glm::inverse(linearD)));
+      inst.flipWinding = detD < 0.0;
     }
-    inst.normalToWorld = glm::transpose(glm::inverse(linear));
-    inst.flipWinding = det < 0.0f;
     inst.valid = true;
     const int instanceIndex = int(i);
     unsigned geomId = RTC_INVALID_GEOMETRY_ID;
@@ -291,6 +297,16 @@ std::unique_ptr<SceneGeometry> SceneGeometry::build(const SceneDescription& scen
     }
     if (geomId == RTC_INVALID_GEOMETRY_ID) break;
     inst.pointError *= kTrianglePointRelativeError;  // trianglePointError of the extent
+    // Embree's triangle test multiplies an origin's offset by products of edges (about the
+    // square of the extent): with every vertex on a coordinate plane (a floor at y = 0) the
+    // bound on that axis is 0, the 1e-30 the offset adds underflowed there in scenes of about
+    // 1e-8 units, and shadow rays hit the surface they left (the floor went black). Kept
+    // above 1e-36 / extent^2 where that exceeds 1e-31 (extents below about 3e-3; others keep
+    // their bounds bit for bit).
+    if (const float extent = maxAbsComponent(inst.pointError) / kTrianglePointRelativeError; extent > 0.0f) {
+      const float minimum = 1e-36f / (extent * extent);
+      if (minimum > 1e-31f && std::isfinite(minimum)) inst.pointError = glm::max(inst.pointError, Vec3(minimum));
+    }
     if (im.instanceOfTopGeometry.size() <= geomId) im.instanceOfTopGeometry.resize(geomId + 1, -1);
     im.instanceOfTopGeometry[geomId] = instanceIndex;
     geometry->triangleCount_ += prim.indices.size() / 3;
@@ -360,9 +376,9 @@ void SceneGeometry::triangleWorld(int instance, uint32_t triangle, Vec3 p[3], Ve
   impl_->worldVertices(inst, triangle, p, vi);
   const MeshPrimitive& prim = impl_->scene->primitives[size_t(inst.triangleData)];
   for (int k = 0; k < 3; ++k) uv[k] = prim.uv0.empty() ? Vec2(0.0f) : prim.uv0[vi[k]];
-  Vec3 n = glm::cross(p[1] - p[0], p[2] - p[0]);
-  const float len = glm::length(n);
-  ng = len > 0.0f ? n / len : Vec3(0.0f, 0.0f, 1.0f);
+  float len = 0.0f;
+  const Vec3 n = triangleUnitNormal(p[1] - p[0], p[2] - p[0], len);
+  ng = len > 0.0f ? n : Vec3(0.0f, 0.0f, 1.0f);
   if (inst.flipWinding) ng = -ng;
 }
 

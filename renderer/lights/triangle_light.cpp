@@ -8,13 +8,13 @@ namespace tex::render {
 
 TriangleLight::TriangleLight(const TriangleLightDesc& desc, const EmissionSource* emission)
     : desc_(desc), emission_(emission), emissionReadsHit_(emission && emission->readsHit()) {
-  const Vec3 c = glm::cross(desc.p1 - desc.p0, desc.p2 - desc.p0);
-  const float len = std::sqrt(lengthSquared(c));
+  float len = 0.0f;
+  const Vec3 n = triangleUnitNormal(desc.p1 - desc.p0, desc.p2 - desc.p0, len);
   area_ = 0.5f * len;
   pdfA_ = area_ > 0.0f ? 1.0f / area_ : 0.0f;
   pointError_ = maxAbsComponent(trianglePointError(desc.p0, desc.p1, desc.p2));
   if (len > 0.0f) {
-    n_ = c / len;
+    n_ = n;
     if (dot3(n_, desc.normal) < 0.0f) n_ = -n_;
   }
 }

@@ -167,18 +167,30 @@ std::string pointerSegment(const std::string& key) {
 
 std::string LocatedJson::lineColumn(size_t offset) const {
   offset = std::min(offset, text.size());
-  size_t line = 1, column = 1;
   // A UTF-8 byte order mark is not a character of the first line.
-  const bool bom = text.size() >= 3 && text.compare(0, 3, "\xEF\xBB\xBF") == 0;
-  for (size_t i = bom ? std::min<size_t>(3, offset) : 0; i < offset; ++i) {
-    if (text[i] == '\n') {
-      ++line;
-      column = 1;
-    } else if ((static_cast<unsigned char>(text[i]) & 0xC0) != 0x80) {
-      ++column;  // UTF-8 continuation bytes do not start a character
+  const size_t first = text.size() >= 3 && text.compare(0, 3, "\xEF\xBB\xBF") == 0 ? 3 : 0;
+  const auto advance = [&](LineColumn& at, size_t from, size_t to) {
+    for (size_t i = std::max(from, first); i < to; ++i) {
+      if (text[i] == '\n') {
+        ++at.line;
+        at.column = 1;
+      } else if ((static_cast<unsigned char>(text[i]) & 0xC0) != 0x80) {
+        ++at.column;  // UTF-8 continuation bytes do not start a character
+      }
+    }
+  };
+  if (checkpoints_.empty()) {
+    LineColumn at;
+    checkpoints_.push_back(at);
+    for (size_t k = 1; k * kCheckpointBytes <= text.size(); ++k) {
+      advance(at, (k - 1) * kCheckpointBytes, k * kCheckpointBytes);
+      checkpoints_.push_back(at);
     }
   }
-  return std::to_string(line) + ":" + std::to_string(column);
+  const size_t k = std::min(offset / kCheckpointBytes, checkpoints_.size() - 1);
+  LineColumn at = checkpoints_[k];
+  advance(at, k * kCheckpointBytes, offset);
+  return std::to_string(at.line) + ":" + std::to_string(at.column);
 }
 
 std::string LocatedJson::keyPosition(const std::string& pointer) const {

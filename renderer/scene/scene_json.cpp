@@ -3,8 +3,11 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
+#include <unordered_map>
+#include <unordered_set>
 
 #include "renderer/scene/gltf_loader.h"
 #include "renderer/scene/scene_json_reader.h"
@@ -76,10 +79,18 @@ class SceneJsonLoader {
     }
   }
 
-  int materialNamed(const std::string& name) const {
-    for (size_t i = 0; i < scene_.materials.size(); ++i)
-      if (scene_.materials[i].name == name) return int(i);
-    return -1;
+  // The first material of that name, or -1. By a map extended as materials are appended (glTF
+  // files, pbr_materials, shapes): a scan per shape and per binding made scenes of 10^5 named
+  // shapes load in time quadratic in their count.
+  int materialNamed(const std::string& name) {
+    if (scene_.materials.size() < indexedMaterials_) {  // cut back after a failed glTF file
+      materialIndex_.clear();
+      indexedMaterials_ = 0;
+    }
+    for (; indexedMaterials_ < scene_.materials.size(); ++indexedMaterials_)
+      materialIndex_.emplace(scene_.materials[indexedMaterials_].name, int(indexedMaterials_));
+    const auto it = materialIndex_.find(name);
+    return it == materialIndex_.end() ? -1 : it->second;
   }
 
   void pbrMaterial(const JsonAt& at, const std::string& name) {
@@ -134,7 +145,9 @@ class SceneJsonLoader {
         for (const char* k : {"corner", "edge1", "edge2"})
           if (!r_.child(at, k)) return r_.error(at, std::string("missing \"") + k + "\"");
         if (!r_.vec3(at, "corner", corner) || !r_.vec3(at, "edge1", edge1) || !r_.vec3(at, "edge2", edge2)) return;
-        if (!(glm::length(glm::cross(edge1, edge2)) > 0)) return r_.error(r_.child(at, "edge2"), "the edges are parallel");
+        float crossLength = 0.0f;  // in double where a float's square would underflow or overflow
+        triangleUnitNormal(edge1, edge2, crossLength);
+        if (!(crossLength > 0)) return r_.error(r_.child(at, "edge2"), "the edges are parallel");
       } else {
         // Default: centred on the origin in the xz plane, facing +y.
         Vec2 size(1.0f);
@@ -193,11 +206,10 @@ class SceneJsonLoader {
     if (b.matchMaterial.empty() && b.matchMesh.empty()) return r_.error(match, "the name is empty (it would match nothing)");
     // Two bindings for one name: only the first would ever be used (the second was dropped
     // silently). A binding by mesh name over one by material name is the documented precedence.
-    for (const TexMaterialBinding& earlier : scene_.texMaterials)
-      if (earlier.matchMaterial == b.matchMaterial && earlier.matchMesh == b.matchMesh)
-        return r_.error(match, std::string("a binding for the ") + (b.matchMesh.empty() ? "material" : "mesh") + " \"" +
-                                   (b.matchMesh.empty() ? b.matchMaterial : b.matchMesh) + "\" already exists (at " +
-                                   earlier.origin + ")");
+    if (const auto earlier = bindingOrigins_.find({b.matchMaterial, b.matchMesh}); earlier != bindingOrigins_.end())
+      return r_.error(match, std::string("a binding for the ") + (b.matchMesh.empty() ? "material" : "mesh") + " \"" +
+                                 (b.matchMesh.empty() ? b.matchMaterial : b.matchMesh) + "\" already exists (at " +
+                                 earlier->second + ")");
     std::string file;
     if (!r_.child(at, "file")) return r_.error(at, "missing \"file\" (a .tex module)");
     if (!r_.child(at, "entry")) return r_.error(at, "missing \"entry\" (the exported material function)");
@@ -214,16 +226,16 @@ class SceneJsonLoader {
       }
     }
     bindingAt_.push_back(at);
+    bindingOrigins_.emplace(std::make_pair(b.matchMaterial, b.matchMesh), b.origin);
     scene_.texMaterials.push_back(std::move(b));
   }
 
   void checkBindingsMatch() {
+    std::unordered_set<std::string> meshNames;
+    for (const MeshPrimitive& p : scene_.primitives) meshNames.insert(p.meshName);
     for (size_t i = 0; i < scene_.texMaterials.size(); ++i) {
       const TexMaterialBinding& b = scene_.texMaterials[i];
-      bool found = false;
-      if (!b.matchMaterial.empty()) found = materialNamed(b.matchMaterial) >= 0;
-      else
-        for (const MeshPrimitive& p : scene_.primitives) found = found || p.meshName == b.matchMesh;
+      const bool found = b.matchMaterial.empty() ? meshNames.count(b.matchMesh) > 0 : materialNamed(b.matchMaterial) >= 0;
       if (!found)
         r_.warn(scene_, r_.child(bindingAt_[i], "match"),
                 "matches nothing (no " + std::string(b.matchMaterial.empty() ? "mesh" : "material") + " named \"" +
@@ -394,6 +406,9 @@ class SceneJsonLoader {
   SceneJsonReader& r_;
   SceneDescription& scene_;
   std::vector<JsonAt> bindingAt_;
+  std::map<std::pair<std::string, std::string>, std::string> bindingOrigins_;  // (material, mesh) -> origin
+  std::unordered_map<std::string, int> materialIndex_;  // materialNamed's map
+  size_t indexedMaterials_ = 0;
 };
 
 }  // namespace

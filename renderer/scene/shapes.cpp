@@ -46,7 +46,12 @@ MeshPrimitive makeSphere(const Vec3& center, float radius, int segments, int rin
 
 MeshPrimitive makeQuad(const Vec3& corner, const Vec3& edge1, const Vec3& edge2) {
   MeshPrimitive mesh;
-  const Vec3 n = glm::normalize(glm::cross(edge1, edge2));
+  Vec3 n = glm::normalize(glm::cross(edge1, edge2));
+  // Edges beyond about 4e9 (or below 1e-19) overflowed (underflowed) the float square: NaN.
+  if (!std::isfinite(n.x + n.y + n.z)) {
+    float crossLength = 0.0f;
+    n = triangleUnitNormal(edge1, edge2, crossLength);
+  }
   mesh.positions = {corner, corner + edge1, corner + edge1 + edge2, corner + edge2};
   mesh.normals = {n, n, n, n};
   mesh.uv0 = {Vec2(0, 0), Vec2(1, 0), Vec2(1, 1), Vec2(0, 1)};

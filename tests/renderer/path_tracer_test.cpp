@@ -268,6 +268,42 @@ TEST(PathTracer, PunctualLightsFarFromTheOriginGiveTheAnalyticDirectLight) {
   }
 }
 
+// Radiometry does not depend on the scene's scale: a floor on the plane z = 0 under a directional
+// light, every length times S, written into the vertices or given by the instance's transform.
+// Edges beyond about 4e9 had overflowed the float cross product (a zero normal: black), a
+// transform's float determinant past a scale of 7e12 had dropped the instance, and at S = 1e-8
+// the floor's shadow rays hit the floor (an offset that underflowed in Embree's test).
+TEST(PathTracer, ScenesOfAnyScaleAreLitAlike) {
+  const std::string file = writeTexModule("scaled", "export fn floor(h: Hit) -> Material = diffuse(spectrum(0.5))\n");
+  const Vec3 travel = glm::normalize(Vec3(0.3f, -0.2f, -1.0f));
+  const double expected = 0.5 / kPi * 2.0 * double(-travel.z);
+  for (const bool viaTransform : {false, true})
+    for (const float s : {1.0f, 1e10f, 1e13f, 1e-8f}) {
+      if (!viaTransform && s > 1e12f) continue;  // vertices stay below the 1e15 coordinate limit
+      SceneDescription scene;
+      MeshPrimitive floor = viaTransform ? makeQuad(Vec3(-1.0f, -1.0f, 0.0f), Vec3(2.0f, 0.0f, 0.0f), Vec3(0.0f, 2.0f, 0.0f))
+                                         : makeQuad(Vec3(-s, -s, 0.0f), Vec3(2.0f * s, 0.0f, 0.0f), Vec3(0.0f, 2.0f * s, 0.0f));
+      floor.material = 0;
+      scene.primitives = {floor};
+      scene.instances = {MeshInstance{0, viaTransform ? glm::scale(Mat4(1.0f), Vec3(s)) : Mat4(1.0f), "floor"}};
+      scene.materials.resize(1);
+      scene.materials[0].name = "floor";
+      test::bindEntriesByMaterialName(scene, file, {"floor"});
+      CameraDesc camera = test::cameraLookingDownZ(Vec3(0.0f, 0.0f, s), 0.9f);
+      camera.orthoHalfHeight = 0.5f * s;
+      scene.cameras.push_back(camera);
+      LightDesc sun;
+      sun.kind = LightDesc::Kind::Directional;
+      sun.direction = travel;
+      sun.emission.kind = SpectrumDesc::Kind::Constant;
+      sun.emission.value = 1.0f;
+      sun.intensity = 2.0f;
+      scene.lights.push_back(sun);
+      const Estimate e = estimateRadiance(scene, 1, 4, 1 << 13);
+      EXPECT_NEAR(e.mean, expected, 4 * e.standardError + 0.003 * expected) << "scale " << s << (viaTransform ? " (transform)" : "");
+    }
+}
+
 TEST(PathTracer, WhiteFurnaceForLosslessMaterials) {
   const std::string file = writeTexModule("furnace",
                                           "import std.spectra.{cauchy}\n"
