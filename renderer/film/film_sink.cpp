@@ -1,23 +1,30 @@
 #include "renderer/film/film_sink.h"
 
+#include <algorithm>
+
 namespace tex {
 
 void FilmSink::begin(int workerSlots) {
-  perSlot_.clear();
-  perSlot_.resize(workerSlots);
+  const size_t filmBytes =
+      std::max<size_t>(1, size_t(std::max(film_.settings().width, 0)) * size_t(std::max(film_.settings().height, 0)) *
+                              size_t(film_.sumsPerPixel()) * sizeof(int64_t));
+  const size_t affordable = std::max<size_t>(1, memoryBudgetBytes_ / filmBytes);
+  accumulatorCount_ = int(std::min<size_t>(size_t(std::max(workerSlots, 1)), affordable));
+  accumulators_.clear();
+  for (int i = 0; i < accumulatorCount_; ++i) accumulators_.push_back(std::make_unique<Shared>());
 }
 
 void FilmSink::consume(int slot, const runtime::ChunkRecords<SampleRecord>& chunk) {
-  std::unique_ptr<FilmAccumulator>& film = perSlot_[slot];
-  if (!film) film = std::make_unique<FilmAccumulator>(film_.settings());
-  film->add(chunk.records.data(), chunk.records.size());
+  Shared& shared = *accumulators_[size_t(slot) % accumulators_.size()];
+  std::lock_guard<std::mutex> lock(shared.mutex);  // uncontended unless slots share it
+  if (!shared.film) shared.film = std::make_unique<FilmAccumulator>(film_.settings());
+  shared.film->add(chunk.records.data(), chunk.records.size());
 }
 
 void FilmSink::end(const runtime::SchedulerResult& result) {
-  for (const auto& film : perSlot_) {
-    if (film) film_.merge(*film);
-  }
-  perSlot_.clear();
+  for (const auto& shared : accumulators_)
+    if (shared->film) film_.merge(*shared->film);
+  accumulators_.clear();
   samples_ += result.samplesDone;
 }
 

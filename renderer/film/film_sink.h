@@ -1,7 +1,12 @@
-// The film as a stream sink: one private accumulator per worker slot (no sharing, no atomics
-// on the hot path), merged by exact integer addition when the run ends.
+// The film as a stream sink: private accumulators for the worker slots (no atomics on the hot
+// path), merged by exact integer addition when the run ends. Films are fixed-point integer sums,
+// so any split of the records over accumulators merges to the same bits: slots share a bounded
+// number of them (each under a mutex) so that large images do not need one full film per thread
+// (a 4096^2 film is about 1 GB; every thread had its own).
 #pragma once
+#include <cstddef>
 #include <memory>
+#include <mutex>
 #include <vector>
 
 #include "renderer/film/film.h"
@@ -11,7 +16,11 @@ namespace tex {
 
 class FilmSink : public runtime::Sink<SampleRecord> {
  public:
-  explicit FilmSink(const FilmSettings& settings) : film_(settings) {}
+  // `memoryBudgetBytes`: at most this much for the slots' accumulators together (at least one).
+  explicit FilmSink(const FilmSettings& settings, size_t memoryBudgetBytes = kDefaultMemoryBudgetBytes)
+      : film_(settings), memoryBudgetBytes_(memoryBudgetBytes) {}
+
+  static constexpr size_t kDefaultMemoryBudgetBytes = size_t(1) << 30;
 
   void begin(int workerSlots) override;
   void consume(int slot, const runtime::ChunkRecords<SampleRecord>& chunk) override;
@@ -23,10 +32,18 @@ class FilmSink : public runtime::Sink<SampleRecord> {
   const FilmAccumulator& film() const { return film_; }
   FilmAccumulator& film() { return film_; }
   uint64_t samples() const { return samples_; }
+  // The accumulators the last run's slots shared (one per slot unless the budget was short).
+  int accumulatorCount() const { return accumulatorCount_; }
 
  private:
+  struct Shared {
+    std::mutex mutex;
+    std::unique_ptr<FilmAccumulator> film;  // created on its first chunk
+  };
   FilmAccumulator film_;
-  std::vector<std::unique_ptr<FilmAccumulator>> perSlot_;  // created on a slot's first chunk
+  size_t memoryBudgetBytes_;
+  std::vector<std::unique_ptr<Shared>> accumulators_;
+  int accumulatorCount_ = 0;
   uint64_t samples_ = 0;
 };
 

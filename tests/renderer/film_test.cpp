@@ -33,10 +33,10 @@ FilmSettings settingsFor(int w, int h, FilterKind filter, ValueKind kind, int bi
 // Renders the analytic kernel over the ranges (one run each) with the given threads/chunk
 // and returns the merged film.
 FilmAccumulator render(const FilmSettings& settings, const AnalyticKernel& kernel, std::vector<IndexRange> ranges,
-                       int threads, uint64_t chunk) {
+                       int threads, uint64_t chunk, size_t memoryBudget = FilmSink::kDefaultMemoryBudgetBytes) {
   FilmAccumulator total(settings);
   for (IndexRange range : ranges) {
-    FilmSink sink(settings);
+    FilmSink sink(settings, memoryBudget);
     Sink<SampleRecord>* sinks[] = {&sink};
     SchedulerOptions options;
     options.threads = threads;
@@ -52,6 +52,25 @@ bool bitIdentical(const DevelopedImage& a, const DevelopedImage& b) {
          std::memcmp(a.variance.data(), b.variance.data(), a.variance.size() * 4) == 0 &&
          a.spectral.size() == b.spectral.size() &&
          std::memcmp(a.spectral.data(), b.spectral.data(), a.spectral.size() * 4) == 0;
+}
+
+// Slots share accumulators when one film per thread would not fit the sink's memory budget (a
+// 4096^2 film is about 1 GB, and every thread had its own); films are integer sums, so the
+// merged film is the same bits however the records were split.
+TEST(Film, SlotsSharingAccumulatorsUnderAMemoryBudgetGiveTheSameBits) {
+  const FilmSettings settings = settingsFor(64, 48, FilterKind::Gaussian, ValueKind::SpectralRadianceOverPdf, 4);
+  const AnalyticKernel kernel{sampling::Sampler(sampling::SamplerKind::Sobol, 5), AnalyticImage::Disk,
+                              ValueKind::SpectralRadianceOverPdf, 4};
+  const FilmAccumulator own = render(settings, kernel, {{0, 200000}}, 4, 1000);
+  const FilmAccumulator shared = render(settings, kernel, {{0, 200000}}, 4, 1000, 1);  // one accumulator for all
+  EXPECT_TRUE(bitIdentical(own.develop(), shared.develop()));
+  EXPECT_TRUE(own.sums() == shared.sums());
+  FilmSink sink(settings, 1);
+  sink.begin(8);
+  EXPECT_EQ(sink.accumulatorCount(), 1);
+  FilmSink roomy(settings);
+  roomy.begin(8);
+  EXPECT_EQ(roomy.accumulatorCount(), 8);
 }
 
 TEST(Filters, EveryFilterIntegratesToOne) {
