@@ -425,7 +425,11 @@ void SceneGeometry::fillHit(int instance, uint32_t triangle, float b1, float b2,
     const Vec4 t = prim.tangents[vi[0]] * b0 + prim.tangents[vi[1]] * b1 + prim.tangents[vi[2]] * b2;
     const Vec3 tw = glm::mat3(inst.toWorld) * Vec3(t);
     const float tl = glm::length(tw);
-    if (tl > 0.0f && std::isfinite(tl)) hit.tangent = Vec4(tw / tl, prim.tangents[vi[0]].w < 0.0f ? -1.0f : 1.0f);
+    // A mirroring transform turns the frame's handedness: cross(M^-T n, M t) = -M cross(n, t)
+    // for a mirror M, so the bitangent cross(n, t) w needs w times sign(det M), as an exporter
+    // baking the mirror into the vertices writes it (normal maps had tilted the wrong way).
+    const float handedness = (prim.tangents[vi[0]].w < 0.0f) != inst.flipWinding ? -1.0f : 1.0f;
+    if (tl > 0.0f && std::isfinite(tl)) hit.tangent = Vec4(tw / tl, handedness);
   }
   hit.uv = prim.uv0.empty() ? Vec2(0.0f) : uv[0] * b0 + uv[1] * b1 + uv[2] * b2;
   hit.uv1 = prim.uv1.empty() ? hit.uv : prim.uv1[vi[0]] * b0 + prim.uv1[vi[1]] * b1 + prim.uv1[vi[2]] * b2;

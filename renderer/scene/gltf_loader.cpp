@@ -158,8 +158,14 @@ class Importer {
       if (!readVec2s(a, out.uv0, where + " TEXCOORD_0") || !sameCount(out.uv0.size(), "TEXCOORD_0")) return false;
     if (int a = attribute("TEXCOORD_1"); a >= 0)
       if (!readVec2s(a, out.uv1, where + " TEXCOORD_1") || !sameCount(out.uv1.size(), "TEXCOORD_1")) return false;
-    if (int a = attribute("TANGENT"); a >= 0)
+    if (int a = attribute("TANGENT"); a >= 0) {
       if (!readVec4s(a, out.tangents, where + " TANGENT") || !sameCount(out.tangents.size(), "TANGENT")) return false;
+      // glTF 2.0 3.7.2.1: without normals (flat shading) the given tangents MUST be ignored.
+      if (out.normals.empty()) {
+        in_.warn(where + " has TANGENT but no NORMAL; the tangents are ignored (flat shading)");
+        out.tangents.clear();
+      }
+    }
     if (int a = attribute("COLOR_0"); a >= 0)
       if (!readColors(a, out.colors, where + " COLOR_0") || !sameCount(out.colors.size(), "COLOR_0")) return false;
     if (!weights.empty()) {
@@ -289,6 +295,12 @@ class Importer {
       float m[16];
       for (int i = 0; i < 16; ++i) m[i] = float(node.matrix[size_t(i)]);  // column-major, as GLM
       out = glm::make_mat4(m);
+      // glTF 2.0 3.5.3: a matrix MUST be decomposable to TRS, so its last row is (0, 0, 0, 1).
+      if (m[3] != 0.0f || m[7] != 0.0f || m[11] != 0.0f || m[15] != 1.0f) {
+        in_.warn(where + " matrix is not affine (its last row is not 0 0 0 1); the row is ignored");
+        out[0][3] = out[1][3] = out[2][3] = 0.0f;
+        out[3][3] = 1.0f;
+      }
       return true;
     }
     if (!node.translation.empty() && node.translation.size() != 3) return fail(where + " translation needs 3 numbers"), false;

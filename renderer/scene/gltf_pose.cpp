@@ -120,10 +120,15 @@ std::string skinToWorld(const tinygltf::Model& model, const tinygltf::Primitive&
         weightSum[v] += weight;
       }
   }
+  // Vertices whose skinning matrix mirrors (a negative determinant): their triangles' winding
+  // and tangent handedness turn, as under a mirroring node (glTF 2.0 3.7.4); the mesh is then
+  // placed with an identity transform, so nothing else would turn them.
+  std::vector<bool> mirrored(n, false);
   for (size_t v = 0; v < n; ++v) {
     const Mat4 m = weightSum[v] > 0.0f ? blended[v] * (1.0f / weightSum[v]) : fallback;
     prim.positions[v] = Vec3(m * Vec4(prim.positions[v], 1.0f));
     const glm::mat3 linear(m);
+    mirrored[v] = glm::determinant(glm::dmat3(linear)) < 0.0;
     if (!prim.normals.empty()) {
       const glm::mat3 normalMatrix = glm::transpose(glm::inverse(linear));
       const Vec3 nw = normalMatrix * prim.normals[v];
@@ -132,10 +137,14 @@ std::string skinToWorld(const tinygltf::Model& model, const tinygltf::Primitive&
     }
     if (!prim.tangents.empty()) {
       const Vec3 t = linear * Vec3(prim.tangents[v]);
-      prim.tangents[v] = Vec4(t, prim.tangents[v].w);
+      prim.tangents[v] = Vec4(t, mirrored[v] ? -prim.tangents[v].w : prim.tangents[v].w);
     }
     if (!std::isfinite(prim.positions[v].x) || !std::isfinite(prim.positions[v].y) || !std::isfinite(prim.positions[v].z))
       return "skinning moves a vertex to a non-finite position";
+  }
+  for (size_t t = 0; t + 2 < prim.indices.size(); t += 3) {
+    const int votes = int(mirrored[prim.indices[t]]) + int(mirrored[prim.indices[t + 1]]) + int(mirrored[prim.indices[t + 2]]);
+    if (votes >= 2) std::swap(prim.indices[t + 1], prim.indices[t + 2]);
   }
   return "";
 }

@@ -734,6 +734,26 @@ TEST_F(GltfMutated, SkinnedMeshesArePlacedByTheirJointsInTheRestPose) {
   EXPECT_LT(glm::length(prim.normals[2] - Vec3(1.0f, 0.0f, 0.0f)), 1e-5f);
   // The unskinned node quad2 still uses the mesh as stored.
   EXPECT_EQ(scene->primitives[0].positions[0], Vec3(-1.0f, -1.0f, 0.0f));
+  {
+    // Joints that mirror (the root scaled by -1 in x) turn the skinned triangles' winding, as a
+    // mirroring node does (glTF 2.0 3.7.4): the mesh is placed with an identity transform, so
+    // its front had faced the other way (one-sided emission came out of the back).
+    json mirrored = doc;
+    mirrored["nodes"][0]["scale"] = {-1.0, 1.0, 1.0};
+    const auto mirroredScene = loadGltf(write("skin-mirrored.gltf", mirrored.dump()), errors);
+    ASSERT_TRUE(mirroredScene) << errors[0];
+    const MeshPrimitive* turned = nullptr;
+    for (const MeshInstance& instance : mirroredScene->instances)
+      if (instance.nodeName == "quad") turned = &mirroredScene->primitives[size_t(instance.primitive)];
+    ASSERT_TRUE(turned);
+    const std::vector<uint32_t>& stored = mirroredScene->primitives[0].indices;
+    ASSERT_EQ(turned->indices.size(), stored.size());
+    for (size_t t = 0; t < stored.size(); t += 3) {
+      EXPECT_EQ(turned->indices[t], stored[t]);
+      EXPECT_EQ(turned->indices[t + 1], stored[t + 2]);
+      EXPECT_EQ(turned->indices[t + 2], stored[t + 1]);
+    }
+  }
 
   doc["skins"][0]["joints"] = {0, 7};  // no node 7 in the file
   scene = loadGltf(write("skin-outside.gltf", doc.dump()), errors);
@@ -873,6 +893,27 @@ TEST_F(GltfMutated, MaterialExtensionsAndTextureTransforms) {
   EXPECT_FLOAT_EQ(g.alphaCutoff, 0.3f);
   EXPECT_TRUE(g.doubleSided);
   EXPECT_TRUE(anyContains(scene->warnings, "VENDOR_unknown"));
+}
+
+// Without NORMAL the given tangents MUST be ignored (glTF 2.0 3.7.2.1: flat normals); a node
+// matrix MUST be decomposable to TRS, so a last row other than (0, 0, 0, 1) is warned about.
+TEST_F(GltfMutated, TangentsWithoutNormalsAndNonAffineMatricesAreWarnedAbout) {
+  json doc = base_;
+  const std::vector<float> tangents = {-1, 0, 0, 1, -1, 0, 0, 1, -1, 0, 0, 1, -1, 0, 0, 1};
+  const std::string bytes = bytesOf(tangents);
+  doc["buffers"].push_back({{"byteLength", bytes.size()}, {"uri", dataUri(bytes)}});
+  doc["bufferViews"].push_back({{"buffer", 1}, {"byteOffset", 0}, {"byteLength", bytes.size()}});
+  doc["accessors"].push_back({{"bufferView", 4}, {"componentType", 5126}, {"count", 4}, {"type", "VEC4"}});
+  doc["meshes"][0]["primitives"][0]["attributes"].erase("NORMAL");
+  doc["meshes"][0]["primitives"][0]["attributes"]["TANGENT"] = int(doc["accessors"].size()) - 1;
+  doc["nodes"][1].erase("scale");
+  doc["nodes"][1]["matrix"] = {1, 0, 0, 0.5, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+  std::vector<std::string> errors;
+  const auto scene = loadGltf(write("tangent-no-normal.gltf", doc.dump()), errors);
+  ASSERT_TRUE(scene) << errors[0];
+  for (const MeshPrimitive& p : scene->primitives) EXPECT_TRUE(p.tangents.empty());
+  EXPECT_TRUE(anyContains(scene->warnings, "has TANGENT but no NORMAL; the tangents are ignored"));
+  EXPECT_TRUE(anyContains(scene->warnings, "matrix is not affine"));
 }
 
 // Values outside the specification's ranges are clamped with a warning, and numbers beyond a

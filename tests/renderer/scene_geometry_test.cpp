@@ -107,6 +107,37 @@ TEST(SceneGeometry, HitNormalAndUvDerivativesAreTheTrianglesBitForBit) {
   EXPECT_GT(hits[1], 300);
 }
 
+// A tangent's handedness turns under a mirroring transform, baked or instanced: the world
+// bitangent cross(n, t) w must stay the transformed object bitangent (glTF: as an exporter that
+// bakes the mirror writes w' = -w). It had kept w, and normal maps tilted the wrong way.
+TEST(SceneGeometry, MirroringTransformsTurnTheTangentsHandedness) {
+  for (const bool mirror : {false, true}) {
+    SceneDescription scene;
+    for (uint64_t seed : {3, 4}) {
+      MeshPrimitive m = randomSoup(seed, 40);
+      for (size_t v = 0; v < m.positions.size(); ++v) {
+        m.normals.push_back(Vec3(0, 0, 1));
+        m.tangents.push_back(Vec4(1, 0, 0, 1));
+      }
+      scene.primitives.push_back(m);
+    }
+    Mat4 linear(1.0f);
+    if (mirror) linear[0][0] = -1.0f;
+    const auto geometry = buildBakedAndInstanced(scene, linear, linear);
+    ASSERT_TRUE(geometry);
+    int hits = 0;
+    for (uint64_t i = 0; i < 2000; ++i) {
+      SurfaceHit hit;
+      if (!geometry->intersect(rayAlongX(11, i, 2.0f, 2.0f), hit)) continue;
+      ++hits;
+      // Object frame: n = +z, t = +x, bitangent cross(n, t) w = +y; the mirror in x keeps +y.
+      const Vec3 n = hit.ns, t = Vec3(hit.tangent);
+      const Vec3 bitangent = glm::cross(n, t) * hit.tangent.w;
+      EXPECT_NEAR(bitangent.y, 1.0f, 1e-5f) << (mirror ? "mirrored" : "plain") << " instance " << hit.instance;
+    }
+    EXPECT_GT(hits, 300);
+  }
+}
 
 // Shading normals: a triangle whose three vertex normals are equal has that normal (in world
 // space, unit) everywhere, exactly when baked (precomputed per triangle); one with different
