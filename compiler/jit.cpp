@@ -263,7 +263,7 @@ std::unique_ptr<CompiledModule> compile(const lang::ir::Program& program, const 
   std::string key = options.useCache ? cacheKey(program, entries, options) : std::string();
   std::string directory = options.useCache ? cacheDirectory(options.cacheDir) : std::string();
   std::vector<std::string> objects;
-  if (options.useCache) {
+  if (options.useCache && options.readCache) {
     CacheLookup lookup = loadCachedObjects(directory, key, objects);
     stats.cacheHit = lookup == CacheLookup::Hit;
     stats.cacheRejected = lookup == CacheLookup::Rejected;
@@ -333,14 +333,35 @@ std::unique_ptr<CompiledModule> compile(const lang::ir::Program& program, const 
     impl->dylib->addToLinkOrder(engine.jit->getMainJITDylib());
   }
   auto result = std::unique_ptr<CompiledModule>(new CompiledModule(std::move(impl)));
+  // A cached entry that passed its checksum but does not link (written by a broken build, or
+  // one that changed without a new kCompilerVersion) is compiled afresh and replaced: it had
+  // been a permanent E0501 until the entry was deleted by hand.
+  const auto rebuildAfterBadEntry = [&]() {
+    CompileOptions fresh = options;
+    fresh.readCache = false;
+    std::unique_ptr<CompiledModule> rebuilt = compile(program, entries, fresh, diags);
+    if (rebuilt) rebuilt->stats_.cacheRejected = true;
+    return rebuilt;
+  };
   for (const std::string& object : objects) {
     auto buffer = llvm::MemoryBuffer::getMemBufferCopy(object, "tex-object");
-    if (auto err = engine.jit->addObjectFile(*result->impl_->dylib, std::move(buffer)))
+    if (auto err = engine.jit->addObjectFile(*result->impl_->dylib, std::move(buffer))) {
+      if (stats.cacheHit) {
+        llvm::consumeError(std::move(err));
+        return rebuildAfterBadEntry();
+      }
       return fail("E0501", "LLVM JIT: " + errorText(std::move(err)));
+    }
   }
   for (size_t k = 0; k < entries.size(); ++k) {
     auto address = engine.jit->lookup(*result->impl_->dylib, entrySymbol(k));
-    if (!address) return fail("E0501", "LLVM JIT: " + errorText(address.takeError()));
+    if (!address) {
+      if (stats.cacheHit) {
+        llvm::consumeError(address.takeError());
+        return rebuildAfterBadEntry();
+      }
+      return fail("E0501", "LLVM JIT: " + errorText(address.takeError()));
+    }
     result->impl_->entries[entries[k]] = address->toPtr<EntryFn>();
   }
   auto end = std::chrono::steady_clock::now();

@@ -21,6 +21,7 @@ struct CompileOptions {
   OptLevel opt = OptLevel::O1;
   int wavelengths = 4;           // Spectrum lanes: 4 or 8 (1 for measurements)
   bool useCache = true;          // the on-disk object cache (docs/abi.md, "Cache")
+  bool readCache = true;         // with useCache: false compiles afresh and replaces the entry
   std::string cacheDir;          // empty: $TEX_CACHE_DIR, else $XDG_CACHE_HOME/tex, else ~/.cache/tex
   uint64_t maxInlinedNodes = 4'000'000;  // specialised-code size limit (E0413)
   uint64_t maxValueWords = 65536;         // largest value, in 32-bit words (E0413)

@@ -22,9 +22,16 @@ Node* Builder::imageCall(const std::string& name, const Expr* call, Span calleeS
   }
   const Expr* path = call->args[0].value;
   if (path->intValue) return errorNode(call->span);  // malformed literal, reported by the lexer
-  // Relative paths are resolved against the directory of the file that names them, like imports.
+  // Relative paths are resolved against the directory of the file that names them, like imports:
+  // its canonical directory, as imports take it (through a symlinked file, images had come from
+  // the link's directory and imports from the target's).
   std::filesystem::path file(path->name);
-  if (file.is_relative() && path->span.file) file = std::filesystem::path(path->span.file->path).parent_path() / file;
+  if (file.is_relative() && path->span.file) {
+    std::error_code ec;
+    std::filesystem::path source = std::filesystem::weakly_canonical(std::filesystem::path(path->span.file->path), ec);
+    if (ec) source = path->span.file->path;
+    file = source.parent_path() / file;
+  }
   ImageLoadResult loaded = ImageTable::global().load(file.string(), name == "image_data");
   if (loaded.handle < 0) {
     error(loaded.code, path->span, loaded.message);

@@ -95,6 +95,12 @@ const std::unordered_map<std::string_view, Tok>& keywords() {
   return table;
 }
 
+}  // namespace
+
+bool isKeyword(std::string_view word) { return keywords().count(word) > 0; }
+
+namespace {
+
 bool isIdentStart(char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_'; }
 bool isDigit(char c) { return c >= '0' && c <= '9'; }
 bool isHexDigit(char c) { return isDigit(c) || (c >= 'a' && c <= 'f') || (c >= 'A' && c <= 'F'); }

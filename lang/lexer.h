@@ -1,5 +1,6 @@
 // The lexer: UTF-8 validation, comments, literals, operators (docs/language.md section 1).
 #pragma once
+#include <string_view>
 #include <vector>
 
 #include "lang/source.h"
@@ -12,5 +13,8 @@ namespace tex::lang {
 std::vector<Token> lex(const SourceFile& file, Diagnostics& diags);
 
 constexpr size_t kMaxSourceBytes = size_t(64) << 20;
+
+// Whether `word` is a keyword (fn, let, type, ...): such a name cannot be imported as a module.
+bool isKeyword(std::string_view word);
 
 }  // namespace tex::lang

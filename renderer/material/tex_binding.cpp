@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "lang/lexer.h"
 #include "lang/session.h"
 #include "lang/types.h"
 #include "renderer/material/hit_dependence.h"
@@ -164,9 +165,15 @@ bool compileBindings(const SceneDescription& scene, int wavelengths, bool quick,
     const std::string where = b.origin.empty() ? scene.sourcePath : b.origin;
     const std::filesystem::path file(b.file);
     const std::string stem = file.stem().string();
-    if (!isIdentifier(stem)) {
-      problems += where + ": error: material file name '" + file.filename().string() +
-                  "' must be a module name (letters, digits, _), so that it can be imported\n";
+    // The binding imports the file as a module by its name, which finds `stem.tex` beside it:
+    // another extension loaded one file and rendered another (wall.mat bound, wall.tex used).
+    if (file.extension() != ".tex") {
+      problems += where + ": error: material file '" + b.file + "' must be a .tex module\n";
+      continue;
+    }
+    if (!isIdentifier(stem) || lang::isKeyword(stem)) {
+      problems += where + ": error: material file name '" + file.filename().string() + "' must be a module name (letters, digits, _; " +
+                  "not a keyword such as 'type'), so that it can be imported\n";
       continue;
     }
     lang::ModuleInfo* module = session.loadFile(b.file);

@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "compiler/jit.h"
+#include "compiler/object_cache.h"
 #include "compiler/value_layout.h"
 #include "lang/interpreter.h"
 #include "lang/session.h"
@@ -196,6 +197,19 @@ TEST(JitCache, MissThenHitThenCorruptEntriesAreRebuiltNeverLoaded) {
     EXPECT_EQ(evaluate(*rebuilt), expected);
     EXPECT_EQ(fs::file_size(entry), size) << "the entry was rewritten whole";
   }
+  // An entry whose framing and checksum are right but whose object does not link (a broken
+  // writer, or a build changed without a new compiler version): rebuilt and replaced too. It had
+  // been a permanent E0501 until the file was deleted by hand.
+  ASSERT_TRUE(compiler::storeCachedObjects(dir.string(), key, {std::string("\x7f" "ELF") + std::string(60, '\0')}));
+  auto relinked = compiler::compile(l.session.program(), {l.fn}, options, l.session.diags());
+  for (auto& d : l.session.diags().items()) ADD_FAILURE() << d.message;
+  ASSERT_NE(relinked, nullptr);
+  EXPECT_TRUE(relinked->stats().cacheRejected);
+  EXPECT_EQ(evaluate(*relinked), expected);
+  auto afterwards = compiler::compile(l.session.program(), {l.fn}, options, l.session.diags());
+  ASSERT_NE(afterwards, nullptr);
+  EXPECT_TRUE(afterwards->stats().cacheHit);
+  EXPECT_EQ(evaluate(*afterwards), expected);
   EXPECT_NE(key.find(compiler::hostCpuDescription()), std::string::npos);
 }
 

@@ -343,6 +343,31 @@ TEST(ImageBuiltin, PathsResolveAgainstTheModulesDirectory) {
             "vec2(3.0, 1.0)");
 }
 
+// A module reached through a symlink finds its images where it finds its imports: beside the
+// file the link points to (images had come from the link's directory, imports from the
+// target's, so one file read two different neighbourhoods).
+TEST(ImageBuiltin, ImagesAndImportsOfASymlinkedModuleResolveFromOneDirectory) {
+  fs::path dir = scratchDir("symlinked");
+  fs::create_directories(dir / "X");
+  fs::create_directories(dir / "Y");
+  fs::copy_file(kImages + "quad.png", dir / "X" / "i.png", fs::copy_options::overwrite_existing);  // 2x2
+  fs::copy_file(kImages + "odd.png", dir / "Y" / "i.png", fs::copy_options::overwrite_existing);   // 3x1
+  std::ofstream(dir / "X" / "lib.tex") << "export fn v() -> Float = 1.0\n";
+  std::ofstream(dir / "Y" / "lib.tex") << "export fn v() -> Float = 0.0\n";
+  std::ofstream(dir / "Y" / "main.tex") << "import lib\nexport fn f() -> Vec2 = image_size(image(\"i.png\")) + vec2(lib.v(), 0.0)\n";
+  fs::create_symlink(fs::path("..") / "Y" / "main.tex", dir / "X" / "main.tex");
+  Session session;
+  ModuleInfo* m = session.loadFile((dir / "X" / "main.tex").string());
+  ASSERT_NE(m, nullptr);
+  const int fn = session.instantiate(m, "f", {}, Span{});
+  for (auto& d : session.diags().items()) ADD_FAILURE() << renderDiagnostic(d);
+  ASSERT_GE(fn, 0);
+  const Value v = evaluate(session.program(), fn, {}, WavelengthGroup{});
+  EXPECT_EQ(v.f[0], 3.0f);  // Y's image and Y's lib (v = 0)
+  EXPECT_EQ(v.f[1], 1.0f);
+  fs::remove_all(dir);
+}
+
 TEST(ImageBuiltin, ImageValuesPrintTheirFileAndSize) {
   Session session;
   ModuleInfo* m = session.loadSource(kImages + "inline.tex", "export fn f() -> Image = image(\"quad.png\")\n");

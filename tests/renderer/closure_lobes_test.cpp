@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <filesystem>
+#include <fstream>
 
 
 #include "renderer/material/closure_lobes.h"
@@ -369,6 +371,24 @@ TEST(ClosureLobes, GltfDarkMetalsKeepTheirRimAndIorZeroIsAMirror) {
       const Spectrum f = fresnelConductor(cosTheta, mirror.a, mirror.b);
       for (int k = 0; k < 4; ++k) EXPECT_FLOAT_EQ(f[k] * mirror.weight[k], 1.0f) << m;
     }
+  }
+}
+
+// A binding's file is imported as a module by its name, so it must be a .tex file whose name is
+// a module name: wall.mat was loaded and then wall.tex beside it rendered, and type.tex failed
+// with parse errors in a generated file. Both are now errors naming the user's file.
+TEST(ClosureLobes, BindingFilesMustBeImportableTexModules) {
+  const std::string good = test::writeTexModule("wall", "export fn m(h: Hit) -> Material = diffuse(spectrum(0.9))\n");
+  const std::filesystem::path dir = std::filesystem::path(good).parent_path();
+  for (const std::string& name : {"wall.mat", "type.tex"}) {
+    std::ofstream(dir / name) << "export fn m(h: Hit) -> Material = diffuse(spectrum(0.0))\n";
+    SceneDescription scene;
+    test::bindEntriesByMaterialName(scene, (dir / name).string(), {"m"});
+    CompiledBindings compiled;
+    std::string error;
+    EXPECT_FALSE(compileBindings(scene, 4, false, false, compiled, error)) << name;
+    EXPECT_NE(error.find(name), std::string::npos) << error;
+    EXPECT_EQ(error.find("__scene_binding"), std::string::npos) << error;
   }
 }
 
