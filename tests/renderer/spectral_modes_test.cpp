@@ -32,12 +32,24 @@ DevelopedImage renderMode(const RenderScene& rs, SpectralMode mode, uint64_t sam
   return sink.film().develop();
 }
 
+std::unique_ptr<RenderScene> buildSixteenSquare(const SceneDescription& scene, std::string& error) {
+  RenderSceneOptions o;
+  o.width = o.height = 16;
+  o.useCache = false;
+  return RenderScene::build(scene, o, error);
+}
+
+// A unit ball of the module's `glass` seen from z = 3.
+SceneDescription glassBall(const std::string& stem, const std::string& source, float yFovRadians) {
+  const std::string file = test::writeTexModule(stem, source);
+  return test::oneObjectScene(makeSphere(Vec3(0.0f), 1.0f, 48, 24, false), file, "glass", Vec3(0.0f, 0.0f, 3.0f), yFovRadians);
+}
+
 TEST(SpectralModes, RoughDispersiveGlassGivesTheSameImageInEveryMode) {
-  const std::string file = test::writeTexModule(
-      "prism", "import std.spectra.{cauchy}\n"
-               "export fn glass(h: Hit) -> Material = dielectric(cauchy(1.55, 20000.0), roughness: 0.15)\n");
-  SceneDescription scene =
-      test::oneObjectScene(makeSphere(Vec3(0.0f), 1.0f, 48, 24, false), file, "glass", Vec3(0.0f, 0.0f, 3.0f), 0.75f);
+  SceneDescription scene = glassBall("prism",
+                                     "import std.spectra.{cauchy}\n"
+                                     "export fn glass(h: Hit) -> Material = dielectric(cauchy(1.55, 20000.0), roughness: 0.15)\n",
+                                     0.75f);
   // A small bright light behind the ball and a dim sky: colour fringes come from dispersion.
   LightDesc sun;
   sun.kind = LightDesc::Kind::Directional;
@@ -46,11 +58,8 @@ TEST(SpectralModes, RoughDispersiveGlassGivesTheSameImageInEveryMode) {
   sun.emission.value = 3.0f;
   scene.lights.push_back(sun);
   scene.lights.push_back(test::constantSky(0.2f));
-  RenderSceneOptions o;
-  o.width = o.height = 16;
-  o.useCache = false;
   std::string error;
-  std::unique_ptr<RenderScene> rs = RenderScene::build(scene, o, error);
+  const std::unique_ptr<RenderScene> rs = buildSixteenSquare(scene, error);
   ASSERT_TRUE(rs) << error;
 
   const uint64_t samples = 16 * 16 * 2048;
@@ -90,17 +99,14 @@ TEST(SpectralModes, RoughDispersiveGlassGivesTheSameImageInEveryMode) {
 // integral of f_j n pdf_j / sum_k pdf_k: a lossless glass ball in a white furnace reflected 1.10
 // to 1.20 of the sky, bluish, while `terminate` and `single` gave 0.994.
 TEST(SpectralModes, ARoughThenASmoothDispersiveEventStaysUnbiased) {
-  const std::string file = test::writeTexModule(
-      "furnace_glass", "fn ior(h: Hit) -> Spectrum = 1.5 + 40000.0 / (lambda_nm * lambda_nm)\n"
-                       "export fn glass(h: Hit) -> Material = mix_material(dielectric(ior(h)), dielectric(ior(h), 0.02), 0.5)\n");
   SceneDescription scene =
-      test::oneObjectScene(makeSphere(Vec3(0.0f), 1.0f, 48, 24, false), file, "glass", Vec3(0.0f, 0.0f, 3.0f), 0.6f);
+      glassBall("furnace_glass",
+                "fn ior(h: Hit) -> Spectrum = 1.5 + 40000.0 / (lambda_nm * lambda_nm)\n"
+                "export fn glass(h: Hit) -> Material = mix_material(dielectric(ior(h)), dielectric(ior(h), 0.02), 0.5)\n",
+                0.6f);
   scene.lights.push_back(test::constantSky(1.0f));
-  RenderSceneOptions o;
-  o.width = o.height = 16;
-  o.useCache = false;
   std::string error;
-  std::unique_ptr<RenderScene> rs = RenderScene::build(scene, o, error);
+  const std::unique_ptr<RenderScene> rs = buildSixteenSquare(scene, error);
   ASSERT_TRUE(rs) << error;
   const uint64_t samples = 16 * 16 * 256;
   const DevelopedImage mis = renderMode(*rs, SpectralMode::Mis, samples, 64);
