@@ -202,12 +202,22 @@ class Importer {
         in_.warn(where + " uses material " + std::to_string(prim.material) + ", which does not exist; using the default");
       out.material = in_.defaultMaterialIndex();
     }
-    // Normal maps need a tangent frame: generated per vertex when the file has none.
-    if (out.tangents.empty() && !out.normals.empty() && out.material >= 0 &&
-        size_t(out.material) < in_.scene.materials.size()) {
+    // Normal maps need a tangent frame: generated per vertex when the file has none. Without
+    // normals (flat shading) the hit's own triangle frame follows TEXCOORD_0, so a map on
+    // TEXCOORD_1 gets tangents generated from it, orthogonalised per hit against the flat
+    // normal (its frame had followed TEXCOORD_0, or the map was ignored without one).
+    if (out.tangents.empty() && out.material >= 0 && size_t(out.material) < in_.scene.materials.size()) {
       const TextureRef& normalMap = in_.scene.materials[size_t(out.material)].normalTexture;
       const std::vector<Vec2>& uv = normalMap.texCoord == 1 ? out.uv1 : out.uv0;
-      if (normalMap.image >= 0 && !uv.empty()) out.tangents = generateTangents(out, uv);
+      if (normalMap.image >= 0 && !uv.empty()) {
+        if (!out.normals.empty()) {
+          out.tangents = generateTangents(out, uv);
+        } else if (normalMap.texCoord == 1) {
+          MeshPrimitive withNormals = out;
+          withNormals.normals = faceAveragedNormals(out);
+          out.tangents = generateTangents(withNormals, uv);
+        }
+      }
     }
     return true;
   }

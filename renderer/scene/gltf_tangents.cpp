@@ -21,6 +21,21 @@ Vec3 orthogonalTo(const Vec3& n) {
 
 }  // namespace
 
+std::vector<Vec3> faceAveragedNormals(const MeshPrimitive& prim) {
+  std::vector<Vec3> normals(prim.positions.size(), Vec3(0.0f));
+  for (size_t t = 0; t + 2 < prim.indices.size(); t += 3) {
+    const uint32_t v[3] = {prim.indices[t], prim.indices[t + 1], prim.indices[t + 2]};
+    const Vec3 n = glm::cross(prim.positions[v[1]] - prim.positions[v[0]], prim.positions[v[2]] - prim.positions[v[0]]);
+    if (!std::isfinite(n.x + n.y + n.z)) continue;
+    for (uint32_t k : v) normals[k] += n;
+  }
+  for (Vec3& n : normals) {
+    const float l = glm::length(n);
+    n = l > 0.0f && std::isfinite(l) ? n / l : Vec3(0.0f, 0.0f, 1.0f);
+  }
+  return normals;
+}
+
 std::vector<Vec4> generateTangents(const MeshPrimitive& prim, const std::vector<Vec2>& uv) {
   const size_t n = prim.positions.size();
   std::vector<Vec3> tangentSum(n, Vec3(0.0f)), bitangentSum(n, Vec3(0.0f));

@@ -19,4 +19,8 @@ namespace tex::render {
 // vector orthogonal to their normal.
 std::vector<Vec4> generateTangents(const MeshPrimitive& prim, const std::vector<Vec2>& uv);
 
+// Per-vertex normals as the area-weighted sum of the faces around each vertex (unit; +z where
+// that vanishes): a frame to generate tangents in for meshes without NORMAL.
+std::vector<Vec3> faceAveragedNormals(const MeshPrimitive& prim);
+
 }  // namespace tex::render

@@ -991,6 +991,32 @@ TEST_F(GltfMutated, NormalMapsWithoutTangentsGetVertexTangents) {
   }
 }
 
+// Without NORMAL, a normal map on TEXCOORD_1 gets tangents generated from TEXCOORD_1 (the hit's
+// own triangle frame follows TEXCOORD_0: the map's frame had followed the wrong uv set, or,
+// with TEXCOORD_1 alone, the map was ignored).
+TEST_F(GltfMutated, NormalMapsOnTheSecondUvSetOfMeshesWithoutNormalsGetItsTangents) {
+  const unsigned char pixels[] = {128, 128, 255, 128, 128, 255};
+  ASSERT_NE(stbi_write_png((dir_ / "flat.png").c_str(), 2, 1, 3, pixels, 6), 0);
+  json doc = base_;
+  json& attributes = doc["meshes"][0]["primitives"][0]["attributes"];
+  attributes["TEXCOORD_1"] = attributes["TEXCOORD_0"];
+  attributes.erase("TEXCOORD_0");
+  attributes.erase("NORMAL");
+  doc["images"] = json::array({{{"uri", "flat.png"}}});
+  doc["textures"] = json::array({{{"source", 0}}});
+  doc["materials"][0]["normalTexture"] = {{"index", 0}, {"texCoord", 1}};
+  std::vector<std::string> errors;
+  const auto scene = loadGltf(write("uv1-normalmap.gltf", doc.dump()), errors);
+  ASSERT_TRUE(scene) << errors[0];
+  const MeshPrimitive& prim = scene->primitives[0];
+  EXPECT_TRUE(prim.normals.empty());
+  ASSERT_EQ(prim.tangents.size(), prim.positions.size());
+  for (const Vec4& t : prim.tangents) {
+    EXPECT_LT(glm::length(Vec3(t) - Vec3(1.0f, 0.0f, 0.0f)), 1e-5f);
+    EXPECT_EQ(t.w, 1.0f);
+  }
+}
+
 TEST_F(GltfMutated, TextureTransformOnAnExtensionTexture) {
   // A 2x1 RGB PNG next to the fixture, as an external image.
   const unsigned char pixels[] = {255, 0, 0, 0, 128, 255};
