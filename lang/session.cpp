@@ -104,7 +104,9 @@ ModuleInfo* Session::Impl::loadModule(const std::string& canonicalPath, const st
   modulesByPath[canonicalPath] = std::move(owned);
 
   auto file = std::make_shared<SourceFile>(displayPath, std::move(text));
+  const size_t diagnosticsBefore = session.diags_.size();
   module->asts.push_back(parseModule(file, session.diags_));
+  module->syntaxErrors = session.diags_.size() > diagnosticsBefore;
   Module& ast = *module->asts.back();
 
   loadingStack.push_back(canonicalPath);
@@ -197,11 +199,13 @@ void Session::Impl::bindImports(ModuleInfo* module, Module& ast) {
             if (found->kind == Symbol::Kind::Decl && found->decl) exported = found->decl->item->exported;
             if (found->kind == Symbol::Kind::TypeAlias) exported = found->typeItem->exported;
           }
-          if (!exported) {
+          // A name missing from a module that did not parse was most likely lost to its syntax
+          // error, reported already: a second "does not export" would only mislead.
+          if (exported) {
+            sym = *found;
+          } else if (!(target->syntaxErrors && !found)) {
             error("E0305", item.span, "module '" + dotted + "' does not export '" + item.name + "'",
                   found && !found->imported ? "mark its definition with 'export'" : "");
-          } else {
-            sym = *found;
           }
         }
         bind(item.alias, sym, item.span);

@@ -42,6 +42,7 @@ struct ModuleInfo {
   std::deque<FunctionDecl> decls;
   std::map<std::string, Symbol> scope;  // items and imports
   bool checked = false;
+  bool syntaxErrors = false;  // its file did not parse: names missing from it are not reported again
 };
 
 struct SessionOptions {
