@@ -16,7 +16,7 @@ enum class ClosureKind : uint32_t {
   Mix = 3,
   Dielectric = 4,        // params: IOR; scalars[0]: GGX roughness alpha (0 = smooth)
   Conductor = 5,         // params: eta, params2: k; scalars[0]: GGX roughness alpha
-  ThinDielectric = 6,    // params: IOR of a thin slab (no refraction offset); scalars[0]: GGX alpha
+  ThinDielectric = 6,    // params: IOR of a thin slab (no refraction offset); params2: transmission tint; scalars[0]: GGX alpha
   Glossy = 7,            // params: reflectance; scalars[0]: exponent n of the glossy model
   GlossyDielectric = 8,  // params: IOR; scalars[0]: exponent n
   Layer = 9,             // a: coat, b: base

@@ -213,6 +213,10 @@ class Codegen {
         if (n->kind == Node::Kind::Fold) {
           loops_.insert(f);
           foldSteps_.insert(n->callee);
+          // The step is a generated function whose body calls the user's step (lang's foldStep):
+          // that one runs once per iteration too, so it stays inline as well.
+          if (const Node* body = program_.functions[size_t(n->callee)].body; body && body->kind == Node::Kind::Call)
+            foldSteps_.insert(body->callee);
         }
         if (n->kind == Node::Kind::Call || n->kind == Node::Kind::Fold) {
           ++callSites_[n->callee];

@@ -98,13 +98,15 @@ inline Vec3 absMaxPerAxis(const Vec3& a, const Vec3& b) {
 }
 // The unit normal of a triangle with edges e1, e2, and the length of their cross product (twice
 // its area); a zero normal and length for a degenerate triangle. In float when that length is a
-// finite non-zero float (the usual case); in double when its square overflows or underflows a
-// float (edges beyond about 4e9, or below about 1e-19), which had made a zero normal (a black,
-// unlit surface) or an infinite area (a light never chosen).
+// finite non-zero float with a normal (not denormal) square (the usual case); in double when
+// the square overflows or leaves the normal range (edges beyond about 4e9, or below about 1e-10),
+// which had made a zero or wrong normal (a black, unlit surface) or an infinite area.
 inline Vec3 triangleUnitNormal(const Vec3& e1, const Vec3& e2, float& crossLength) {
   const Vec3 n = glm::cross(e1, e2);
-  const float len = std::sqrt(lengthSquared(n));
-  if (len > 0.0f && len <= std::numeric_limits<float>::max()) {
+  const float squared = lengthSquared(n);
+  // A denormal square has lost its precision (a "unit" normal of length 0.7 at edges of 5e-12).
+  if (squared >= std::numeric_limits<float>::min() && squared <= std::numeric_limits<float>::max()) {
+    const float len = std::sqrt(squared);
     crossLength = len;
     return n / len;
   }

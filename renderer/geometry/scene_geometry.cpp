@@ -304,7 +304,9 @@ std::unique_ptr<SceneGeometry> SceneGeometry::build(const SceneDescription& scen
     // above 1e-36 / extent^2 where that exceeds 1e-31 (extents below about 3e-3; others keep
     // their bounds bit for bit).
     if (const float extent = maxAbsComponent(inst.pointError) / kTrianglePointRelativeError; extent > 0.0f) {
-      const float minimum = 1e-36f / (extent * extent);
+      // At most 2^-20 of the extent: below about 1e-9 units float precision runs out anyway
+      // (docs/renderer.md), and an offset as large as the scene would leave it.
+      const float minimum = std::min(1e-36f / (extent * extent), extent * 0x1p-20f);
       if (minimum > 1e-31f && std::isfinite(minimum)) inst.pointError = glm::max(inst.pointError, Vec3(minimum));
     }
     if (im.instanceOfTopGeometry.size() <= geomId) im.instanceOfTopGeometry.resize(geomId + 1, -1);

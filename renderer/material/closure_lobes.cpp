@@ -223,7 +223,9 @@ struct Walker {
         // A thin slab does not bend light: a varying IOR changes each lane's R', never a
         // direction (the lobes take every lane's own R' over the hero's event probability).
         iorLanes(node, lobe);
-        lobe.b = clampZero(param(node, ParamUse::Reflectance, true));  // the transmission's tint
+        // The transmission's tint, a filter: in [0, 1] per wavelength (above 1 it would add energy).
+        lobe.b = clampZero(param(node, ParamUse::Reflectance, true));
+        for (int i = 0; i < kLanes; ++i) lobe.b.v[i] = std::min(lobe.b.v[i], 1.0f);
         addLobe(lobe);
         return;
       }
