@@ -148,12 +148,8 @@ int runAnalyticDemo(const Args& args) {
   }
   // The image and the sample file on one path: the image overwrote the samples (as tex render
   // refuses).
-  if (!output.empty() && !samplesOut.empty()) {
-    std::error_code ecA, ecB;
-    const std::filesystem::path a = std::filesystem::weakly_canonical(output, ecA), b = std::filesystem::weakly_canonical(samplesOut, ecB);
-    if (!ecA && !ecB && a == b)
-      return usage("'" + output + "' is given twice as an output (image and sample file)");
-  }
+  if (!output.empty() && !samplesOut.empty() && samePath(output, samplesOut))
+    return usage("'" + output + "' is given twice as an output (image and sample file)");
   for (const std::string& path : {output, samplesOut})
     if (!path.empty())
       if (const std::string problem = outputDirectoryProblem(path); !problem.empty()) {

@@ -119,14 +119,10 @@ int runDevelop(const Args& args) {
     }
   }
   {
-    std::error_code ec;
-    const auto same = [&](const std::string& x, const std::string& y) {
-      return std::filesystem::weakly_canonical(x, ec) == std::filesystem::weakly_canonical(y, ec);
-    };
-    if (!thumbnail.empty() && same(thumbnail, output)) return usage("--thumbnail and -o name the same file");
+    if (!thumbnail.empty() && samePath(thumbnail, output)) return usage("--thumbnail and -o name the same file");
     for (const std::string& input : inputs) {
-      if (same(input, output)) return usage("-o names the input " + input + " (it would be overwritten)");
-      if (!thumbnail.empty() && same(input, thumbnail)) return usage("--thumbnail names the input " + input);
+      if (samePath(input, output)) return usage("-o names the input " + input + " (it would be overwritten)");
+      if (!thumbnail.empty() && samePath(input, thumbnail)) return usage("--thumbnail names the input " + input);
     }
   }
 

@@ -166,8 +166,7 @@ int parseFlags(const Args& args, RenderFlags& f) {
   if (!f.samplesOut.empty()) targets.push_back(f.samplesOut);
   for (size_t i = 0; i < targets.size(); ++i)
     for (size_t j = i + 1; j < targets.size(); ++j) {
-      std::error_code ec;
-      if (std::filesystem::weakly_canonical(targets[i], ec) == std::filesystem::weakly_canonical(targets[j], ec))
+      if (samePath(targets[i], targets[j]))
         return usage("'" + targets[i] + "' is given twice as an output (" +
                      (j + 1 == targets.size() && !f.samplesOut.empty() ? "image and sample file" : "two images") + ")");
     }
@@ -251,20 +250,6 @@ int runRender(const Args& args) {
   ro.wavelengths = s.wavelengths;
   ro.useCache = !f.noCache;
   std::unique_ptr<render::RenderScene> rs = render::RenderScene::build(scene, ro, error);
-  if (rs) {
-    // An output must not overwrite what the scene was read from (a --samples-out named like
-    // the .glb, an image named like the environment map): checked before rendering.
-    std::vector<std::string> inputs = scene.inputFiles;
-    for (const std::string& p : lang::ImageTable::global().paths()) inputs.push_back(p);
-    std::vector<std::string> targets = f.outputs;
-    if (!f.samplesOut.empty()) targets.push_back(f.samplesOut);
-    for (const std::string& target : targets)
-      for (const std::string& input : inputs) {
-        std::error_code ec;
-        if (std::filesystem::equivalent(target, input, ec) && !ec)
-          return fail("the output '" + target + "' is an input of the scene ('" + input + "'); choose another name");
-      }
-  }
   if (!rs) {
     // Located diagnostics already start with the scene's name (and end with a newline).
     while (!error.empty() && error.back() == '\n') error.pop_back();
@@ -276,6 +261,16 @@ int runRender(const Args& args) {
     }
     return fail(error.rfind(f.scene, 0) == 0 ? error : f.scene + ": " + error);
   }
+  // An output must not overwrite what the scene was read from (a --samples-out named like the
+  // .glb, an image named like the environment map): checked before rendering.
+  std::vector<std::string> inputs = scene.inputFiles;
+  for (const std::string& p : lang::ImageTable::global().paths()) inputs.push_back(p);
+  std::vector<std::string> targets = f.outputs;
+  if (!f.samplesOut.empty()) targets.push_back(f.samplesOut);
+  for (const std::string& target : targets)
+    for (const std::string& input : inputs)
+      if (std::error_code ec; std::filesystem::equivalent(target, input, ec) && !ec)  // the same file, links too
+        return fail("the output '" + target + "' is an input of the scene ('" + input + "'); choose another name");
 
   for (size_t i = 0; i < scene.lights.size() && i < rs->lights().size(); ++i)
     if (const auto* env = dynamic_cast<const render::ImageEnvironment*>(rs->lights()[i]); env && env->droppedPixels() > 0)

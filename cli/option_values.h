@@ -67,6 +67,14 @@ inline bool parseUnsigned(const std::string& text, uint64_t& value) {
   return true;
 }
 
+// Whether two paths name one file (existing or not yet: through ./, .. and symlinks of their
+// directories). Paths that cannot be resolved name no file in common.
+inline bool samePath(const std::string& a, const std::string& b) {
+  std::error_code ecA, ecB;
+  const std::filesystem::path ca = std::filesystem::weakly_canonical(a, ecA), cb = std::filesystem::weakly_canonical(b, ecB);
+  return !ecA && !ecB && ca == cb;
+}
+
 // Why an output file could not be written into its directory ("" if it can): checked before
 // hours of rendering, not after.
 inline std::string outputDirectoryProblem(const std::string& path) {

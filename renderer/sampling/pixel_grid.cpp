@@ -44,6 +44,8 @@ PixelSampleMap::PixelSampleMap(const PixelGrid& grid, const uint32_t filmScrambl
   pixels_ = uint64_t(grid.width) * uint64_t(grid.height);
   inverseWidth_ = 1.0f / float(grid.width);
   inverseHeight_ = 1.0f / float(grid.height);
+  widthExact_ = (grid.width & (grid.width - 1)) == 0;
+  heightExact_ = (grid.height & (grid.height - 1)) == 0;
   const int r = ceilLog2(uint64_t(std::max(grid.imageWidth, grid.imageHeight)));
   cellBits_ = r;
   const uint32_t mask = r == 0 ? 0u : (uint32_t(1) << r) - 1;  // r <= 16

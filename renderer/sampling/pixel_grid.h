@@ -81,6 +81,10 @@ class PixelSampleMap {
   const PixelGrid& grid() const { return grid_; }
   float inverseWidth() const { return inverseWidth_; }
   float inverseHeight() const { return inverseHeight_; }
+  // Whether (x + offset) * inverse is exact for every pixel x and in-cell offset (power-of-two
+  // sizes): then a position always bins into its own pixel and needs no check.
+  bool widthExact() const { return widthExact_; }
+  bool heightExact() const { return heightExact_; }
   int cellBits() const { return cellBits_; }  // r
 
  private:
@@ -91,6 +95,7 @@ class PixelSampleMap {
   uint64_t id_ = 0;  // unique per constructed map (copies share it: they map alike)
   uint64_t pixels_ = 1;
   float inverseWidth_ = 1, inverseHeight_ = 1;
+  bool widthExact_ = true, heightExact_ = true;
   int cellBits_ = 0;
   uint32_t cellMask_ = 0;  // 2^r - 1
   // The film's pixels (y * width + x) in the order of their points' indices in block 0, and

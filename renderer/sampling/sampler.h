@@ -94,8 +94,10 @@ class Sampler {
     const float cx = point.x * cells, cy = point.y * cells;
     const float ox = cx - float(int(cx)), oy = cy - float(int(cy));  // in [0, 1)
     // Times the reciprocal (exact for power-of-two sizes; a division each was in the profile).
-    return {inPixel(std::min((float(ps.x) + ox) * pixels_.inverseWidth(), 0x1.fffffep-1f), ps.x, pixels_.grid().width),
-            inPixel(std::min((float(ps.y) + oy) * pixels_.inverseHeight(), 0x1.fffffep-1f), ps.y, pixels_.grid().height)};
+    const float fx = std::min((float(ps.x) + ox) * pixels_.inverseWidth(), 0x1.fffffep-1f);
+    const float fy = std::min((float(ps.y) + oy) * pixels_.inverseHeight(), 0x1.fffffep-1f);
+    return {pixels_.widthExact() ? fx : inPixel(fx, ps.x, pixels_.grid().width),
+            pixels_.heightExact() ? fy : inPixel(fy, ps.y, pixels_.grid().height)};
   }
   // The film bins a position f by int(f * size) (film.cpp). At sizes that are not powers of two
   // the rounded 1/size can put (x + o) / size just below x / size for o = 0, or a rounded x + o
