@@ -1,4 +1,5 @@
-// `tex compare`: image differences (RMSE, relative MSE, per-pixel Z-test with variances).
+// `tex compare`: image differences (RMSE, relative MSE, per-pixel Z-test with variances, a
+// batch-means test of the image means).
 #include <cctype>
 #include <cstdio>
 #include <filesystem>
@@ -21,10 +22,17 @@ const char* kCompareUsage =
     "tested (grey pixels count once). Below about 16 samples per pixel it is unreliable; a note\n"
     "says so when the images' metadata show it.\n"
     "\n"
+    "The image means are tested too, by batch means over a grid of up to 8x8 blocks (at least\n"
+    "16 blocks of 8x8 pixels): a bias spread thinly over many pixels passes the per-pixel test\n"
+    "but moves the mean. The images differ when some channel has |t| > 4.5 (t of the blocks'\n"
+    "mean differences). This test needs no variance channels, so it also compares images from\n"
+    "other renderers.\n"
+    "\n"
     "options:\n"
     "  --json        print one JSON object (keys rmse, rmse_r, rmse_g, rmse_b, relative_mse,\n"
     "                max_abs_difference, ztest{count, mean_square, outlier_fraction, non_finite,\n"
-    "                untestable, pass[, verdict]})\n"
+    "                untestable, pass[, verdict]}, meantest{blocks, mean_a, mean_b, t,\n"
+    "                pass[, verdict]})\n"
     "  --max-rmse X  exit with status 3 if the RMSE exceeds X\n"
     "\n"
     "exit status: 0 compared, 1 unreadable or mismatched inputs, 2 usage, 3 over --max-rmse\n";
@@ -116,6 +124,13 @@ int runCompare(const Args& args) {
       // Without variance channels, or with only zero variances (1 sample per pixel: no
       // estimate of the noise), there is nothing to test against.
       std::printf("z-test: no variance estimates (no variance channels, or all zero, as at 1 sample per pixel)\n");
+    }
+    if (c.meanTested) {
+      std::printf("image means over %d blocks: R %.6g vs %.6g (t %.3g), G %.6g vs %.6g (t %.3g), B %.6g vs %.6g (t %.3g) (%s)\n",
+                  c.meanBlocks, c.meanA[0], c.meanB[0], c.meanT[0], c.meanA[1], c.meanB[1], c.meanT[1], c.meanA[2],
+                  c.meanB[2], c.meanT[2], c.meanPass ? "consistent within noise" : "DIFFER");
+    } else {
+      std::printf("image means: %s\n", c.meanVerdict.c_str());
     }
   }
   if (maxRmse >= 0 && !(c.rmse <= maxRmse)) {  // a NaN rmse (non-finite pixels) fails too

@@ -1,5 +1,6 @@
 #include "renderer/image/compare.h"
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 #include <cstdio>
@@ -28,6 +29,59 @@ std::string jsonNumber(double x) {
   std::snprintf(buffer, sizeof buffer, "%.9g", x);
   return buffer;
 }
+// Batch means over a grid of blocks (see ImageComparison::meanTested).
+void testBlockMeans(const ExrChannel* const* ca, const ExrChannel* const* cb, int width, int height, ImageComparison& out) {
+  constexpr int kMinBlockSide = 8, kMaxBlocksPerAxis = 8, kMinBlocks = 16;
+  constexpr double kTLimit = 4.5, kRoundingFloor = 1e-5;
+  const int bx = std::min(kMaxBlocksPerAxis, width / kMinBlockSide), by = std::min(kMaxBlocksPerAxis, height / kMinBlockSide);
+  if (bx * by < kMinBlocks) {
+    out.meanVerdict = "cannot decide: the image is too small for " + std::to_string(kMinBlocks) + " blocks of " +
+                      std::to_string(kMinBlockSide) + "x" + std::to_string(kMinBlockSide) + " pixels";
+    return;
+  }
+  out.meanBlocks = bx * by;
+  std::string failed;
+  for (int k = 0; k < 3; ++k) {
+    double sumDiff = 0, sumDiffSquares = 0, sumA = 0, sumB = 0;
+    for (int j = 0; j < by; ++j)
+      for (int i = 0; i < bx; ++i) {
+        const int x0 = int(int64_t(i) * width / bx), x1 = int(int64_t(i + 1) * width / bx);
+        const int y0 = int(int64_t(j) * height / by), y1 = int(int64_t(j + 1) * height / by);
+        double blockA = 0, blockB = 0;
+        for (int y = y0; y < y1; ++y)
+          for (int x = x0; x < x1; ++x) {
+            const size_t p = size_t(y) * size_t(width) + size_t(x);
+            blockA += ca[k]->values[p];
+            blockB += cb[k]->values[p];
+          }
+        const double count = double(x1 - x0) * double(y1 - y0);
+        if (!std::isfinite(blockA) || !std::isfinite(blockB)) {
+          out.meanVerdict = std::string("cannot decide: ") + kRgb[k] + " has NaN or infinite values";
+          return;
+        }
+        const double diff = (blockA - blockB) / count;
+        sumA += blockA, sumB += blockB;
+        sumDiff += diff, sumDiffSquares += diff * diff;
+      }
+    const double blocks = double(out.meanBlocks), pixels = double(width) * double(height);
+    out.meanA[k] = sumA / pixels, out.meanB[k] = sumB / pixels;
+    const double mean = sumDiff / blocks;
+    const double variance = std::max(0.0, (sumDiffSquares - blocks * mean * mean) / (blocks - 1.0));
+    const double standardError = std::sqrt(variance / blocks);
+    out.meanT[k] = mean == 0.0 ? 0.0 : standardError > 0.0 ? mean / standardError : std::copysign(HUGE_VAL, mean);
+    const double scale = std::max(std::fabs(out.meanA[k]), std::fabs(out.meanB[k]));
+    if (std::fabs(out.meanT[k]) > kTLimit && std::fabs(out.meanA[k] - out.meanB[k]) > kRoundingFloor * scale) {
+      char buffer[96];
+      std::snprintf(buffer, sizeof buffer, "%s%s %.6g vs %.6g (t %.3g)", failed.empty() ? "" : ", ", kRgb[k],
+                    out.meanA[k], out.meanB[k], out.meanT[k]);
+      failed += buffer;
+    }
+  }
+  out.meanTested = true;
+  if (!failed.empty()) out.meanVerdict = "image means differ: " + failed;
+  out.meanPass = failed.empty();
+}
+
 }  // namespace
 
 std::string compareImages(const ExrImage& a, const ExrImage& b, ImageComparison& out) {
@@ -109,6 +163,7 @@ std::string compareImages(const ExrImage& a, const ExrImage& b, ImageComparison&
     }
     out.zPass = out.zVerdict.empty();
   }
+  testBlockMeans(ca, cb, a.width, a.height, out);
   return "";
 }
 
@@ -124,6 +179,16 @@ std::string comparisonToJson(const ImageComparison& c, const std::string& pathA,
          ", \"outlier_fraction\": " + jsonNumber(c.zOutlierFraction) + ", \"non_finite\": " + std::to_string(c.zNonFinite) +
          ", \"untestable\": " + std::to_string(c.zUntestable) + ", \"pass\": " + (c.zPass ? "true" : "false") +
          (c.zPass ? std::string() : ", \"verdict\": " + jsonString(c.zVerdict)) + "}";
+  }
+  if (c.meanTested) {
+    const auto triple = [](const double* v) {
+      std::string list(1, '[');
+      for (int k = 0; k < 3; ++k) list += (k ? ", " : "") + jsonNumber(v[k]);
+      return list + "]";
+    };
+    j += ", \"meantest\": {\"blocks\": " + std::to_string(c.meanBlocks) + ", \"mean_a\": " + triple(c.meanA) +
+         ", \"mean_b\": " + triple(c.meanB) + ", \"t\": " + triple(c.meanT) + ", \"pass\": " + (c.meanPass ? "true" : "false") +
+         (c.meanPass ? std::string() : ", \"verdict\": " + jsonString(c.meanVerdict)) + "}";
   }
   return j + "}";
 }

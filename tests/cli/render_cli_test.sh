@@ -44,6 +44,19 @@ cmp -s "$tmp/a.exr" "$tmp/b.exr" || fail "1 and 2 threads wrote different EXRs"
 expect_exit 0 "develop" "$tex" develop "$tmp/s.samples" --res 32x32 -o "$tmp/d.exr"
 expect_exit 0 "compare" "$tex" compare --json "$tmp/a.exr" "$tmp/d.exr"
 echo "$out" | grep -q '"rmse": 0[,}]' || fail "the developed sample file differs from the render: $out"
+# The image-mean test: the benchmark Cornell box one bounce short (max depth 6 instead of the
+# scene's 7) is 0.9 % darker in R, inside every pixel's noise, and the mean test says so; two
+# seeds of the same render are consistent.
+mitsuba_box=$src/scenes/cornell-box-mitsuba.json
+for run in 7:1 7:2 6:3; do
+  depth=${run%:*} seed=${run#*:}
+  expect_exit 0 "render depth $depth seed $seed" "$tex" render "$mitsuba_box" --spp 64 --res 96x96 --max-depth "$depth" --seed "$seed" -q -o "$tmp/mean$seed.exr"
+done
+expect_exit 0 "compare seeds" "$tex" compare "$tmp/mean1.exr" "$tmp/mean2.exr"
+echo "$out" | grep -q "image means over 64 blocks: .*(consistent within noise)" || fail "two seeds of one render: $out"
+expect_exit 0 "compare depths" "$tex" compare --json "$tmp/mean1.exr" "$tmp/mean3.exr"
+echo "$out" | grep -q '"ztest": {[^}]*"pass": true' || fail "the per-pixel test was expected to miss the short depth: $out"
+echo "$out" | grep -q '"meantest": {[^}]*"pass": false, "verdict": "image means differ: R ' || fail "the mean test missed a bounce: $out"
 for mode in mis terminate single; do
   expect_exit 0 "spectral mode $mode" "$tex" render "$src/scenes/default.json" --spp 1 --res 16x16 --spectral-mode $mode -q -o "$tmp/m.png"
 done

@@ -1,6 +1,6 @@
-// tex compare's per-pixel Z-test: renders of one scene agree, different ones do not, and what
-// cannot be tested (NaN pixels, differences without any variance, too few channels) never
-// passes as "consistent".
+// tex compare's per-pixel Z-test and whole-image mean test: renders of one scene agree,
+// different ones do not, and what cannot be tested (NaN pixels, differences without any
+// variance, too few channels or blocks) never passes as "consistent".
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -86,6 +86,62 @@ TEST(ImageCompare, DifferencesWithoutVarianceOrTooFewChannelsCannotPass) {
   ASSERT_EQ(compareImages(tiny, tiny2, c), "");
   EXPECT_EQ(c.zCount, 27u);
   EXPECT_FALSE(c.zPass);
+}
+
+// The whole-image mean test (batch means over blocks): independent renders of one image pass
+// it about as often as a t test at |t| 4.5 should, and a bias of a few percent spread over
+// the whole image, far inside every pixel's noise, fails it while the per-pixel test passes.
+// Round 15's spectral MIS bias (5-20 % on an object, per-pixel z-test passed) was of this kind.
+TEST(ImageCompare, ABiasSpreadThinlyOverThePixelsFailsTheMeanTestAlone) {
+  int passed = 0;
+  double tSquares = 0;
+  for (uint64_t seed = 0; seed < 40; ++seed) {
+    ImageComparison c;
+    ASSERT_EQ(compareImages(noisyImage(64, 48, 0.04, 2 * seed, false), noisyImage(64, 48, 0.04, 2 * seed + 1, false), c), "");
+    ASSERT_TRUE(c.meanTested);
+    EXPECT_EQ(c.meanBlocks, 48);  // 8 x 6 blocks of 8 x 8 pixels
+    passed += c.meanPass;
+    for (double t : c.meanT) tSquares += t * t;
+  }
+  EXPECT_GE(passed, 39);
+  EXPECT_NEAR(tSquares / 120.0, 47.0 / 45.0, 0.35);  // t with 47 degrees of freedom: E t^2 = 47/45
+  // A 6 % bias (0.03 on means around 0.5) against noise of standard deviation 0.2 per pixel
+  // (z shifted by 0.1: the per-pixel test cannot see it; t about 6 over 48 blocks).
+  int caught = 0;
+  for (uint64_t seed = 0; seed < 10; ++seed) {
+    ImageComparison c;
+    ASSERT_EQ(compareImages(noisyImage(64, 48, 0.04, 2 * seed, false), noisyImage(64, 48, 0.04, 2 * seed + 1, false, 0.03), c), "");
+    EXPECT_TRUE(c.zPass);
+    caught += !c.meanPass;
+    if (!c.meanPass) {
+      EXPECT_NE(c.meanVerdict.find("image means differ"), std::string::npos);
+    }
+  }
+  EXPECT_GE(caught, 9);
+}
+
+// The mean test needs 16 blocks of 8 x 8 pixels and finite values; images without noise pass
+// when equal and differ when they are not, beyond float rounding.
+TEST(ImageCompare, TheMeanTestSaysWhenItCannotDecide) {
+  ImageComparison c;
+  ASSERT_EQ(compareImages(noisyImage(24, 40, 0.01, 1, false), noisyImage(24, 40, 0.01, 2, false), c), "");
+  EXPECT_FALSE(c.meanTested);  // 3 x 5 blocks
+  EXPECT_NE(c.meanVerdict.find("cannot decide"), std::string::npos);
+  ExrImage a = noisyImage(32, 32, 0.01, 1, false), b = noisyImage(32, 32, 0.01, 2, false);
+  a.channels[1].values[5] = std::numeric_limits<float>::quiet_NaN();
+  ASSERT_EQ(compareImages(a, b, c), "");
+  EXPECT_FALSE(c.meanTested);
+  EXPECT_FALSE(c.meanPass);
+  const ExrImage flat = noisyImage(32, 32, 0.0, 1, false), flatCopy = flat;
+  ASSERT_EQ(compareImages(flat, flatCopy, c), "");
+  EXPECT_TRUE(c.meanPass);
+  EXPECT_EQ(c.meanT[0], 0.0);
+  ExrImage rounded = flat;
+  for (float& v : rounded.channels[2].values) v = std::nextafter(v, 2.0f);  // one ulp: rounding, not a difference
+  ASSERT_EQ(compareImages(flat, rounded, c), "");
+  EXPECT_TRUE(c.meanPass);
+  ASSERT_EQ(compareImages(flat, noisyImage(32, 32, 0.0, 1, false, 0.001), c), "");
+  EXPECT_FALSE(c.meanPass);
 }
 
 }  // namespace
