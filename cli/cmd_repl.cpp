@@ -132,6 +132,9 @@ struct HitContext {
   lang::WavelengthGroup group;
 };
 
+// Closure nodes one REPL evaluation may build, compiled or interpreted.
+constexpr size_t kClosureNodes = 1024;
+
 class Repl {
  public:
   Repl(lang::SessionOptions options, bool interactive, bool interpret)
@@ -364,18 +367,13 @@ class Repl {
   // Evaluates a compiled REPL expression (a function of `hit`): JIT in quick mode, or the
   // interpreter. The compiled code is unloaded right after.
   bool run(int fn, lang::Value& out) {
-    if (interpret_) {
-      out = lang::evaluate(session_->program(), fn, {hitValue()}, hit_.group);
-      return true;
-    }
+    if (interpret_) return interpret(fn, out);
     compiler::CompileOptions options;
     options.opt = compiler::OptLevel::Quick;
     options.useCache = false;  // REPL lines are one-offs: keep them out of the cache
     options.wavelengths = hit_.group.count;
-    if (options.wavelengths != 1 && options.wavelengths != 4 && options.wavelengths != 8) {
-      out = lang::evaluate(session_->program(), fn, {hitValue()}, hit_.group);  // the JIT has 1, 4 or 8 lanes
-      return true;
-    }
+    if (options.wavelengths != 1 && options.wavelengths != 4 && options.wavelengths != 8)
+      return interpret(fn, out);  // the JIT has 1, 4 or 8 lanes
     auto module = compiler::compile(session_->program(), {fn}, options, session_->diags());
     if (!module) {
       printNewDiagnostics();
@@ -386,7 +384,7 @@ class Repl {
     compiler::flatten(hitValue(), hitType, options.wavelengths, args);
     const lang::Type* resultType = session_->program().functions[size_t(fn)].resultType;
     std::vector<uint32_t> result(compiler::wordCount(resultType, options.wavelengths) + 1, 0);
-    std::vector<compiler::ClosureNode> nodes(1024);
+    std::vector<compiler::ClosureNode> nodes(kClosureNodes);
     compiler::ClosureArena arena{nodes.data(), int32_t(nodes.size()), 0, 0};
     compiler::ShadingContext ctx{};
     for (int i = 0; i < hit_.group.count; ++i) ctx.lambdaNm[i] = hit_.group.lambdaNm[i];
@@ -399,6 +397,18 @@ class Repl {
       return false;
     }
     out = compiler::unflatten(result.data(), resultType, options.wavelengths, &arena);
+    return true;
+  }
+
+  // The interpreter, with the closure-node limit the JIT's arena has here (the same error).
+  bool interpret(int fn, lang::Value& out) {
+    lang::ClosureBudget budget{kClosureNodes};
+    out = lang::evaluate(session_->program(), fn, {hitValue()}, hit_.group, &budget);
+    if (budget.overflowed) {
+      std::fprintf(stderr, "error: the material has more than %zu closure nodes\n", kClosureNodes);
+      sawError_ = true;
+      return false;
+    }
     return true;
   }
 

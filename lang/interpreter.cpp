@@ -42,7 +42,8 @@ float fsign(float x) { return x > 0 ? 1.0f : x < 0 ? -1.0f : x; }
 
 class Interpreter {
  public:
-  Interpreter(const ir::Program& p, const WavelengthGroup& g, int entry) : program_(p), group_(g), entry_(entry) {}
+  Interpreter(const ir::Program& p, const WavelengthGroup& g, int entry, ClosureBudget& budget)
+      : program_(p), group_(g), entry_(entry), budget_(budget) {}
 
   Value call(int function, std::vector<Value> args) {
     const ir::Function& fn = program_.functions[size_t(function)];
@@ -311,6 +312,11 @@ class Interpreter {
   // A material node, its operands read in the order of ir::MaterialShape.
   Value material(const Node* n, std::vector<Value>& slots) {
     const ir::MaterialShape& shape = *ir::materialShape(n->prim);
+    if (materialNodes_ >= budget_.nodeLimit) {  // a full arena: no tree, as compiled code gives -1
+      budget_.overflowed = true;
+      return {};
+    }
+    ++materialNodes_;
     auto m = std::make_shared<MaterialNode>();
     m->kind = MaterialNode::Kind(shape.kind);
     size_t at = 0;
@@ -348,13 +354,17 @@ class Interpreter {
   const WavelengthGroup& group_;
   int entry_;
   std::vector<const Node*> stack_;  // the Call and Fold nodes from the entry to here
+  ClosureBudget& budget_;
+  size_t materialNodes_ = 0;
   std::unique_ptr<ir::WavelengthDependence> dependence_;
 };
 
 }  // namespace
 
-Value evaluate(const ir::Program& program, int function, const std::vector<Value>& args, const WavelengthGroup& group) {
-  return Interpreter(program, group, function).call(function, args);
+Value evaluate(const ir::Program& program, int function, const std::vector<Value>& args, const WavelengthGroup& group,
+               ClosureBudget* budget) {
+  ClosureBudget local;
+  return Interpreter(program, group, function, budget ? *budget : local).call(function, args);
 }
 
 static Value floats(std::initializer_list<float> xs) {

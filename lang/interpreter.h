@@ -8,10 +8,18 @@
 
 namespace tex::lang {
 
+// Closure nodes one evaluation may build, as the JIT's arena bounds them (docs/abi.md,
+// "Materials"): past the limit, material constructors return no tree (a null material) and
+// the evaluation reports the overflow. A fold building millions of nodes had taken gigabytes.
+struct ClosureBudget {
+  size_t nodeLimit = 65536;
+  bool overflowed = false;  // set by evaluate when a material needed more nodes
+};
+
 // Evaluates program.functions[function] on the arguments. Pure and re-entrant: call it from
 // many threads at once on one program.
 Value evaluate(const ir::Program& program, int function, const std::vector<Value>& args,
-               const WavelengthGroup& group = {});
+               const WavelengthGroup& group = {}, ClosureBudget* budget = nullptr);
 
 // A Hit value for uv in the unit square, as `tex eval` and the REPL use it: p = (u, v, 0),
 // n = (0, 0, 1), dpdx/dpdy and duvdx/duvdy one pixel's step.
