@@ -25,7 +25,8 @@ const char* kDevelopUsage =
     "Develops sample files (written by --samples-out) into an image. The samples are a\n"
     "continuous image: any resolution and filter can be chosen. Several files (e.g. index\n"
     "ranges rendered by different processes or machines) are merged; the result is\n"
-    "bit-identical to developing one file holding the same ranges.\n"
+    "bit-identical to developing one file holding the same ranges. Files must come from the\n"
+    "same render: scene, seed, sampler, wavelengths, integrator and image size.\n"
     "\n"
     "options:\n"
     "  -o, --output PATH       .exr (float RGB + metadata) or .png (8-bit sRGB)\n"
@@ -146,6 +147,9 @@ int runDevelop(const Args& args) {
     else if (h.sampler != first.sampler) differs = "sampler";
     else if (h.wavelengthsPerRecord != first.wavelengthsPerRecord) differs = "wavelengths per path";
     else if (h.integrator != first.integrator) differs = "integrator";
+    // Renders at other sizes map their sample indices to other pixels: their samples would
+    // not fill the pixels as either render's do, and the default size would be the first's.
+    else if (h.imageWidth != first.imageWidth || h.imageHeight != first.imageHeight) differs = "recorded image size";
     if (!differs.empty()) {
       std::fprintf(stderr, "tex develop: error: %s: not from the same render as %s (the %s differs)\n", inputs[k].c_str(),
                    inputs[0].c_str(), differs.c_str());

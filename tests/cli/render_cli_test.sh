@@ -238,6 +238,10 @@ echo "$out" | grep -q '"width": 40, "height": 24, "rmse": 0[,}]' || fail "develo
 "$tex" demo analytic --range 20k:40k --sampler random --samples-out "$tmp/dr.tsp" -o "$tmp/dr.exr" > /dev/null 2>&1
 expect_exit 1 "develop of two samplers" "$tex" develop "$tmp/da.tsp" "$tmp/dr.tsp" -o "$tmp/mix.exr"
 echo "$out" | grep -q "the sampler differs" || fail "sample files of two samplers were merged: $out"
+# ... or in their size (the first file's size had been taken for both).
+"$tex" demo analytic --range 20k:40k --res 128x128 --samples-out "$tmp/ds.tsp" -o "$tmp/ds.exr" > /dev/null 2>&1
+expect_exit 1 "develop of two sizes" "$tex" develop "$tmp/da.tsp" "$tmp/ds.tsp" -o "$tmp/mix.exr"
+echo "$out" | grep -q "the recorded image size differs" || fail "sample files of two sizes were merged: $out"
 
 # tex eval: Ctrl-C keeps the partial image (exit 130), as tex render does.
 expect_interrupted eval "$tmp/e.log" "$tmp/eval_part.png" "interrupted" \
