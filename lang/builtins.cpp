@@ -42,7 +42,7 @@ const std::set<std::string>& otherBuiltins() {
 const std::map<std::string, std::vector<BuiltinParam>>& namedBuiltinParams() {
   static const BuiltinParam roughness{"roughness", true, 0.0f};
   static const std::map<std::string, std::vector<BuiltinParam>> table = {
-      {"dielectric", {{"ior"}, roughness}},
+      {"dielectric", {{"ior"}, roughness, {"transmission_tint", true, 1.0f}}},
       {"conductor", {{"eta"}, {"k"}, roughness}},
       {"thin_dielectric", {{"ior"}, roughness, {"transmission_tint", true, 1.0f}}},
       {"glossy", {{"reflectance"}, {"n"}}},
@@ -384,10 +384,12 @@ Node* Builder::builtinCall(const std::string& name, std::vector<TypedArg> args, 
     return material(name == "diffuse" ? Prim::MatDiffuse : Prim::MatEmission, {colorOrSpectrumArg(0)}, "a Color or Spectrum");
   }
   if (name == "dielectric") {
-    // The interior's IOR relative to the outside; a Float is a constant spectrum.
-    const char* expected = "(ior, roughness = 0.0): an IOR Float or Spectrum and a Float";
-    if (!arity(2)) return noOverload(expected);
-    return material(Prim::MatDielectric, {spectrumArg(0), scalar(1)}, expected);
+    // The interior's IOR relative to the outside; a Float is a constant spectrum. The tint
+    // filters the transmission at each crossing (glTF's coloured glass), never the reflection.
+    const char* expected =
+        "(ior, roughness = 0.0, transmission_tint = 1.0): an IOR Float or Spectrum, a Float, and a Color, Spectrum or Float";
+    if (!arity(3)) return noOverload(expected);
+    return material(Prim::MatDielectric, {spectrumArg(0), colorOrSpectrumArg(2), scalar(1)}, expected);
   }
   if (name == "conductor") {
     // eta and k each a Color or Spectrum; a Float takes the other's type if that is a Color,

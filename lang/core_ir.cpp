@@ -38,7 +38,7 @@ const MaterialEntry kMaterials[] = {
     {Prim::MatDiffuse, "diffuse", {1, 0, 1, 0, false}},
     {Prim::MatEmission, "emission", {2, 0, 1, 0, false}},
     {Prim::MatMix, "mix_material", {3, 2, 0, 0, true}},
-    {Prim::MatDielectric, "dielectric", {4, 0, 1, 1, false}},
+    {Prim::MatDielectric, "dielectric", {4, 0, 2, 1, false}},
     {Prim::MatConductor, "conductor", {5, 0, 2, 1, false}},
     {Prim::MatThinDielectric, "thin_dielectric", {6, 0, 2, 1, false}},
     {Prim::MatGlossy, "glossy", {7, 0, 1, 1, false}},

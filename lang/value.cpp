@@ -39,15 +39,15 @@ static std::string formatMaterial(const MaterialNode* m, const WavelengthGroup& 
   if (!shape) return "<material>";
   if (--budget < 0) return "...";
   // A node prints as the call that builds it: children, parameters, scalars, the Mix weight;
-  // a roughness of 0 (the default) is left out, another is named; a thin wall's transmission
-  // tint comes last, named, and is left out when it is the default 1; ", varying" marks a
+  // a roughness of 0 (the default) is left out, another is named; a dielectric's or thin wall's
+  // transmission tint comes last, named, and is left out when it is the default 1; ", varying" marks a
   // wavelength-dependent node.
   std::vector<std::string> parts;
-  const bool thinWall = m->kind == MaterialNode::Kind::ThinDielectric;
+  const bool tinted = m->kind == MaterialNode::Kind::ThinDielectric || m->kind == MaterialNode::Kind::Dielectric;
   if (shape->children > 0) parts.push_back(formatMaterial(m->a.get(), group, budget));
   if (shape->children > 1) parts.push_back(formatMaterial(m->b.get(), group, budget));
   if (shape->params > 0) parts.push_back(formatValue(m->param, m->paramType, group));
-  if (shape->params > 1 && !thinWall) parts.push_back(formatValue(m->param2, m->param2Type, group));
+  if (shape->params > 1 && !tinted) parts.push_back(formatValue(m->param2, m->param2Type, group));
   bool roughness = m->kind == MaterialNode::Kind::Dielectric || m->kind == MaterialNode::Kind::Conductor ||
                    m->kind == MaterialNode::Kind::ThinDielectric;
   for (int i = 0; i < shape->scalars; ++i) {
@@ -55,7 +55,7 @@ static std::string formatMaterial(const MaterialNode* m, const WavelengthGroup& 
     else if (m->scalars[i] != 0.0f) parts.push_back("roughness: " + formatFloat(m->scalars[i]));
   }
   if (shape->weight) parts.push_back(formatFloat(m->weight));
-  if (thinWall && shape->params > 1) {
+  if (tinted && shape->params > 1) {
     bool untinted = true;
     for (int i = 0; i < lanesOf(m->param2Type, group); ++i) untinted = untinted && m->param2.f[i] == 1.0f;
     if (!untinted) parts.push_back("transmission_tint: " + formatValue(m->param2, m->param2Type, group));

@@ -33,11 +33,13 @@ enum class TransportMode : uint8_t { Radiance, Importance };
 
 enum class LobeKind : uint8_t {
   Lambertian,         // albedo = weight
-  SmoothDielectric,   // eta = a (interior IOR over exterior, per wavelength); weight scales both R and T
+  SmoothDielectric,   // eta = a (interior IOR over exterior, per wavelength); weight scales both R and T;
+                      // b is what the transmission loses at each crossing, 1 - its tint (0: clear)
   SmoothConductor,    // complex IOR eta + i k: eta = a, k = b; weight scales the Fresnel reflectance
   // The materials issue's lobes (renderer/bsdf/microfacet*.cpp, glossy_lobe.cpp):
   RoughConductor,     // GGX, alpha = roughness; eta = a, k = b
-  RoughDielectric,    // GGX reflection and transmission, alpha = roughness; eta = a
+  RoughDielectric,    // GGX reflection and transmission, alpha = roughness; eta = a, and b what
+                      // the transmission loses, 1 - its tint (0: clear; as for SmoothDielectric)
   ThinDielectric,     // a thin slab (both interfaces, internal bounces summed); eta = a, b tints
                       // the transmission only (1: untinted)
   RoughThinDielectric,  // a rough thin slab (GGX, alpha = roughness); eta = a, transmission tint b

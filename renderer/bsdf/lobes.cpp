@@ -65,7 +65,7 @@ std::optional<BsdfSample> dielectricSample(const Lobe& lobe, const Vec3& wo, flo
   // Radiance is compressed into the smaller solid angle of the denser side (Veach 5.2);
   // importance is not.
   const float modeScale = mode == TransportMode::Radiance ? 1.0f / (etaRel * etaRel) : 1.0f;
-  s.f = lobe.weight * (transmittance * modeScale / cosI);
+  s.f = lobe.weight * (Spectrum(1.0f) - lobe.b) * (transmittance * modeScale / cosI);  // b: the tint's loss
   if (lobe.etaVaries) {
     // Only the hero wavelength really refracts into wi: the other lanes would refract
     // elsewhere, so their values are zeroed here and the integrator decides (bsdf.h).

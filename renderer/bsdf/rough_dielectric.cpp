@@ -1,5 +1,6 @@
 // Rough dielectric: GGX reflection and transmission through one interface (Walter et al. 2007;
-// pbrt-v4 section 9.7). eta = lobe.a per lane (inside over outside), alpha = lobe.roughness.
+// pbrt-v4 section 9.7). eta = lobe.a per lane (inside over outside), alpha = lobe.roughness;
+// transmission is filtered by the tint 1 - lobe.b (glTF's coloured glass), reflection is not.
 //  - Generalized half vector wm ~ wo + eta_p wi (eta_p = 1 for reflection, else the relative IOR
 //    of wi's side over wo's), turned to the upper side; back-facing configurations have f = 0.
 //  - Transmission: f = D G (1 - F) |wi.wm| |wo.wm| / (|cos_i| |cos_o| (wi.wm + wo.wm / eta_p)^2),
@@ -106,10 +107,12 @@ bool refractThrough(const Vec3& w, Vec3 n, float eta, Vec3& wt) {
 
 Spectrum roughDielectricEval(const Lobe& lobe, const Vec3& wo, const Vec3& wi, TransportMode mode) {
   const float alpha = clampGgxAlpha(lobe.roughness);
-  if (!lobe.etaVaries) return lobe.weight * roughDielectricValue(wo, wi, lobe.a.v[0], alpha, mode);
+  // Transmission is filtered by the tint (b = 1 - tint), reflection never.
+  const Spectrum weight = wo.z * wi.z < 0.0f ? lobe.weight * (Spectrum(1.0f) - lobe.b) : lobe.weight;
+  if (!lobe.etaVaries) return weight * roughDielectricValue(wo, wi, lobe.a.v[0], alpha, mode);
   Spectrum f;
   for (int i = 0; i < kLanes; ++i)
-    if (lobe.weight.v[i] != 0.0f) f.v[i] = lobe.weight.v[i] * roughDielectricValue(wo, wi, lobe.a.v[i], alpha, mode);
+    if (weight.v[i] != 0.0f) f.v[i] = weight.v[i] * roughDielectricValue(wo, wi, lobe.a.v[i], alpha, mode);
   return f;
 }
 
@@ -131,7 +134,7 @@ std::optional<BsdfSample> roughDielectricSample(const Lobe& lobe, const Vec3& wo
     s.pdfW = 1.0f;
     const float invCos = 1.0f / std::fabs(wo.z);
     for (int i = 0; i < kLanes; ++i)
-      s.f.v[i] = (!lobe.etaVaries || indexMatched(lobe.a.v[i])) ? lobe.weight.v[i] * invCos : 0.0f;
+      s.f.v[i] = (!lobe.etaVaries || indexMatched(lobe.a.v[i])) ? lobe.weight.v[i] * (1.0f - lobe.b.v[i]) * invCos : 0.0f;
     s.dispersive = lobe.etaVaries;
     return s;
   }

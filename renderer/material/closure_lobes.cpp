@@ -198,6 +198,10 @@ struct Walker {
         lobe.roughness = roughness;
         lobe.weight = weight;
         iorLanes(node, lobe);
+        // The transmission's tint, a filter in [0, 1] per wavelength, kept as what it takes
+        // away (b = 1 - tint: lobes made elsewhere, such as coats, stay clear with b = 0).
+        const Spectrum tint = clampZero(param(node, ParamUse::Reflectance, true));
+        for (int i = 0; i < kLanes; ++i) lobe.b.v[i] = 1.0f - std::min(tint.v[i], 1.0f);
         addLobe(lobe);
         return;
       }

@@ -10,6 +10,7 @@
 
 #include "renderer/material/closure_lobes.h"
 #include "renderer/material/tex_binding.h"
+#include "renderer/sampling/pcg.h"
 #include "tests/renderer/scene_fixtures.h"
 
 namespace tex::render {
@@ -371,6 +372,67 @@ TEST(ClosureLobes, GltfDarkMetalsKeepTheirRimAndIorZeroIsAMirror) {
       const Spectrum f = fresnelConductor(cosTheta, mirror.a, mirror.b);
       for (int k = 0; k < 4; ++k) EXPECT_FLOAT_EQ(f[k] * mirror.weight[k], 1.0f) << m;
     }
+  }
+}
+
+// Solid tinted glass (glTF transmission with a base colour) reflects as its interface does from
+// either side, and the base colour tints only what crosses it. Its reflection had been a coat,
+// which takes the outside's Fresnel from inside too: a 0.5 base reflected 0.53 beyond the
+// critical angle (TIR: 1), 0.065 at 35 degrees inside (0.086), and 0.274 at 75 degrees outside
+// for a slab (0.291).
+TEST(ClosureLobes, GltfTintedGlassReflectsAsItsInterfaceFromEitherSide) {
+  const Compiled c = compileEntries(
+      "import std.gltf.{metallic_roughness}\n"
+      "export fn smooth(h: Hit) -> Material = metallic_roughness(h, rgb(0.5, 0.5, 0.5), 0.0, 0.0, 1.0, 1.5, 0.0, rgb(0.0, 0.0, 0.0))\n"
+      "export fn rough(h: Hit) -> Material = metallic_roughness(h, rgb(0.5, 0.5, 0.5), 0.0, 0.5, 1.0, 1.5, 0.0, rgb(0.0, 0.0, 0.0))\n"
+      "export fn clear(h: Hit) -> Material = metallic_roughness(h, rgb(1.0, 1.0, 1.0), 0.0, 0.5, 1.0, 1.5, 0.0, rgb(0.0, 0.0, 0.0))\n",
+      {"smooth", "rough", "clear"});
+  ASSERT_EQ(c.bindings.bindings.size(), 3u);
+  constexpr int kSamples = 200000;
+  // Mean reflected and transmitted weight f |cos| / pdf of BSDF samples from wo (radiance mode).
+  const auto albedos = [&](const Bsdf& bsdf, const Vec3& wo, double& reflected, double& transmitted) {
+    sampling::Pcg32 rng(7, 11);
+    reflected = transmitted = 0;
+    for (int i = 0; i < kSamples; ++i) {
+      const float uc = rng.nextFloat(), u1 = rng.nextFloat(), u2 = rng.nextFloat();
+      const auto s = bsdf.sample(wo, uc, Vec2(u1, u2), TransportMode::Radiance);
+      if (!s || !(s->pdfW > 0.0f)) continue;
+      (s->wi.z * wo.z > 0.0f ? reflected : transmitted) += double(s->f[0]) * std::fabs(s->wi.z) / s->pdfW;
+    }
+    reflected /= kSamples, transmitted /= kSamples;
+  };
+  const auto direction = [](float thetaDeg, bool inside) {
+    const float t = thetaDeg * float(M_PI) / 180.0f;
+    return Vec3(std::sin(t), 0.0f, inside ? -std::cos(t) : std::cos(t));
+  };
+  {
+    Shaded s = shade(c.bindings.bindings[0]);
+    ASSERT_TRUE(s.result.ok);
+    double r = 0, t = 0;
+    albedos(s.bsdf, direction(50.0f, true), r, t);  // beyond the critical angle, 41.8 degrees
+    EXPECT_NEAR(r, 1.0, 1e-6);
+    EXPECT_EQ(t, 0.0);
+    for (const auto& [theta, inside] : {std::pair{35.0f, true}, std::pair{75.0f, false}, std::pair{0.0f, false}}) {
+      const Vec3 wo = direction(theta, inside);
+      const double fresnel = fresnelDielectric(wo.z, 1.5f);
+      const double eta2 = inside ? 1.0 / (1.5 * 1.5) : 1.5 * 1.5;  // radiance's 1 / eta_rel^2
+      albedos(s.bsdf, wo, r, t);
+      const double sigma = std::sqrt(fresnel * (1 - fresnel) / kSamples);
+      EXPECT_NEAR(r, fresnel, 5 * sigma + 1e-6) << theta << " inside " << inside;
+      EXPECT_NEAR(t, 0.5 * (1.0 - fresnel) / eta2, 5 * sigma * 0.5 / eta2 + 1e-6) << theta << " inside " << inside;
+    }
+  }
+  // Rough: the tinted glass reflects what clear glass reflects, from inside as from outside,
+  // and transmits half of what it transmits.
+  Shaded rough = shade(c.bindings.bindings[1]), clear = shade(c.bindings.bindings[2]);
+  ASSERT_TRUE(rough.result.ok && clear.result.ok);
+  for (const auto& [theta, inside] : {std::pair{30.0f, true}, std::pair{60.0f, true}, std::pair{70.0f, false}}) {
+    double rTinted = 0, tTinted = 0, rClear = 0, tClear = 0;
+    albedos(rough.bsdf, direction(theta, inside), rTinted, tTinted);
+    albedos(clear.bsdf, direction(theta, inside), rClear, tClear);
+    EXPECT_NEAR(rTinted, rClear, 1e-6) << theta << " inside " << inside;  // the same samples
+    EXPECT_NEAR(tTinted, 0.5 * tClear, 1e-6) << theta << " inside " << inside;
+    EXPECT_GT(rClear, inside && theta > 45.0f ? 0.5 : 0.02) << theta;
   }
 }
 
