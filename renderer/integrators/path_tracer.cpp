@@ -166,6 +166,11 @@ Spectrum PathTracer::radiance(const sampling::IndexSampler& samples, const Ray& 
   float pathPdfRatio[kLanes];
   for (int k = 0; k < kLanes; ++k) pathPdfRatio[k] = 1.0f;
   float spectralWeight = 1.0f;
+  // The product of eta_rel^2 over the refractions so far: radiance's 1 / eta_rel^2 is a change
+  // of units, not a loss, so Russian roulette judges beta x etaSquared (pbrt-v4's etaScale).
+  // Without it paths inside dense glass were ended with probability 1 - 1 / eta^2 and the
+  // survivors carried eta^2 (3.5x the noise in a diamond, 5.5x at IOR 3).
+  float etaSquared = 1.0f;
 
   // Declared once per path: its default initialisation (a 96-byte rep stos) at every bounce
   // showed in the profile, and intersect() overwrites every field it reports on a hit.
@@ -270,6 +275,7 @@ Spectrum PathTracer::radiance(const sampling::IndexSampler& samples, const Ray& 
     const std::optional<BsdfSample> bs = bsdf.sample(wo, samples.get(dim + 3), u, TransportMode::Radiance);
     if (!bs || !(bs->pdfW > 0.0f) || bs->f.isBlack()) break;
     beta *= bs->f * (absDot(bs->wi, shadingNormal) / bs->pdfW);
+    if (bs->transmission) etaSquared *= bs->etaScale * bs->etaScale;
     prevPdfW = bs->pdfW;
     if (bs->dispersive && !terminated && n > 1) {
       if (settings_.spectralMode == SpectralMode::Mis && !bs->specular) {
@@ -300,7 +306,7 @@ Spectrum PathTracer::radiance(const sampling::IndexSampler& samples, const Ray& 
       break;
     }
     if (depth + 1 >= settings_.rouletteDepth) {
-      const float survive = std::min(1.0f, beta.maxValue() * spectralWeight);
+      const float survive = std::min(1.0f, beta.maxValue() * spectralWeight * etaSquared);
       if (samples.get(dim + 6) >= survive) break;
       beta = beta / survive;
     }

@@ -329,6 +329,23 @@ TEST(PathTracer, WhiteFurnaceForLosslessMaterials) {
   }
 }
 
+// Inside dense glass radiance carries 1 / eta^2, a change of units that Russian roulette must
+// not read as a loss (pbrt-v4's etaScale). It did: a lossless IOR-10 ball in a white furnace
+// ended its paths inside with probability 0.99 and the survivors carried 100, so single
+// samples ranged over 0..100 around the right mean; now every sample is about 1.
+TEST(PathTracer, RouletteSeesThroughTheUnitsOfRadianceInsideDenseGlass) {
+  const std::string file = writeTexModule("dense_glass", "export fn glass(h: Hit) -> Material = dielectric(10.0)\n");
+  MeshPrimitive sphere = makeSphere(Vec3(0.0f), 1.0f, 48, 24, false);
+  sphere.normals.clear();  // flat facets, as in the white furnace above
+  SceneDescription scene = oneObjectScene(std::move(sphere), file, "glass", Vec3(0.0f, 0.0f, 3.0f));
+  scene.lights.push_back(constantSky(1.0f));
+  constexpr uint64_t kSamples = 1 << 14;
+  const Estimate e = estimateRadiance(scene, 5000, 4, kSamples, sampling::SamplerKind::Sobol, 1);
+  EXPECT_NEAR(e.mean, 1.0, 4 * e.standardError + 1e-6);
+  const double sampleDeviation = e.standardError * std::sqrt(double(kSamples));
+  EXPECT_LT(sampleDeviation, 0.05);
+}
+
 // A scene built for a square image of `size` pixels, without the JIT's disk cache.
 std::unique_ptr<RenderScene> buildSquare(const SceneDescription& scene, int size) {
   RenderSceneOptions o;
