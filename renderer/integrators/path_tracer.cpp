@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "renderer/core/warp.h"
+#include "renderer/integrators/medium_stack.h"
 
 namespace tex::render {
 
@@ -44,6 +45,22 @@ void addPixelFootprint(ShadingPoint& sp, const Ray& dx, const Ray& dy) {
   sp.duvdx = solve(sp.dpdx);
   sp.duvdy = solve(sp.dpdy);
   if (!std::isfinite(sp.duvdx.x + sp.duvdx.y + sp.duvdy.x + sp.duvdy.y)) sp.duvdx = sp.duvdy = Vec2(0.0f);
+}
+
+// Beer-Lambert transmittance of an unoccluded shadow ray from a surface (material, geometric
+// normal ng, path arriving from wo through segmentMedium) to a light sample. On wo's side it
+// travels in segmentMedium; through the surface, into this object's volume when it enters one,
+// else into the volume around this object.
+Spectrum shadowTransmittance(const MaterialSystem& materials, const MediumStack& media, int material, int segmentMedium,
+                             const Vec3& ng, const Vec3& wo, const LightLiSample& ls, const Wavelengths& lambda) {
+  int medium = segmentMedium;
+  const bool entering = dot3(ls.wi, ng) < 0.0f;
+  if (entering != (dot3(wo, ng) < 0.0f) && materials.transmitsIntoAVolume(material))
+    medium = entering ? material : media.innermostOutside(material);
+  Spectrum sigmaA;
+  if (medium < 0 || !materials.interiorAbsorption(medium, lambda, sigmaA)) return Spectrum(1.0f);
+  if (!std::isfinite(ls.distance)) return Spectrum();  // to a light at infinity from inside a volume
+  return exp(sigmaA * -ls.distance);
 }
 
 // Writes the continuation ray into the path's own Ray: a returned Ray was assembled on the
@@ -171,6 +188,7 @@ Spectrum PathTracer::radiance(const sampling::IndexSampler& samples, const Ray& 
   // Without it paths inside dense glass were ended with probability 1 - 1 / eta^2 and the
   // survivors carried eta^2 (3.5x the noise in a diamond, 5.5x at IOR 3).
   float etaSquared = 1.0f;
+  MediumStack media;
 
   // Declared once per path: its default initialisation (a 96-byte rep stos) at every bounce
   // showed in the profile, and intersect() overwrites every field it reports on a hit.
@@ -206,12 +224,14 @@ Spectrum PathTracer::radiance(const sampling::IndexSampler& samples, const Ray& 
     // The cosine is the BSDF's own shading normal's: a normal map replaces the frame, and with
     // the mesh's interpolated normal it had almost no effect on diffuse shading.
     const Vec3 shadingNormal = bsdf.frame().n;
-    // A ray that reaches a surface from its back travelled inside that object: absorb along
-    // the segment (closed, non-nested volumes; KHR_materials_volume).
-    if (dot3(ray.direction, hit.ng) > 0.0f) {
-      Spectrum sigmaA;
-      if (materials.interiorAbsorption(material, lambda, sigmaA)) beta *= exp(sigmaA * -hit.t);
-    }
+    // Absorption along the segment that ended here (KHR_materials_volume): inside the innermost
+    // volume the path entered, or, having entered none (a camera inside glass), inside the
+    // object whose back the ray reached. Shadow rays leaving on wo's side travel in it too.
+    const bool backFace = dot3(ray.direction, hit.ng) > 0.0f;
+    const int segmentMedium = !media.empty() ? media.innermost() : backFace ? material : -1;
+    Spectrum sigmaA;
+    const bool absorbing = segmentMedium >= 0 && materials.interiorAbsorption(segmentMedium, lambda, sigmaA);
+    if (absorbing) beta *= exp(sigmaA * -hit.t);
 
     // Emission seen by this path: MIS against the light sampling of the previous vertex.
     if (!Le.isBlack() && (dot3(wo, hit.ng) > 0.0f || materials.emitsBothSides(material))) {
@@ -256,7 +276,10 @@ Spectrum PathTracer::radiance(const sampling::IndexSampler& samples, const Ray& 
           if (!f.isBlack()) {
             ++counters.rays;
             if (!geometry.occluded(shadowRay(hit.p, hit.ng, hit.pError, *ls))) {
-              const Spectrum Li = ls->radianceDeferred ? light.deferredRadiance(*ls, lambda) : ls->L;
+              Spectrum Li = ls->radianceDeferred ? light.deferredRadiance(*ls, lambda) : ls->L;
+              // An unoccluded shadow ray crosses no surface: it travels in one medium, wo's
+              // unless it leaves through this surface into another.
+              if (!media.empty() || absorbing) Li *= shadowTransmittance(materials, media, material, segmentMedium, hit.ng, wo, *ls, lambda);
               if (!Li.isBlack()) {
                 const float pdfLight = choice->second * ls->pdfW;
                 const float weight =
@@ -275,7 +298,13 @@ Spectrum PathTracer::radiance(const sampling::IndexSampler& samples, const Ray& 
     const std::optional<BsdfSample> bs = bsdf.sample(wo, samples.get(dim + 3), u, TransportMode::Radiance);
     if (!bs || !(bs->pdfW > 0.0f) || bs->f.isBlack()) break;
     beta *= bs->f * (absDot(bs->wi, shadingNormal) / bs->pdfW);
-    if (bs->transmission) etaSquared *= bs->etaScale * bs->etaScale;
+    if (bs->transmission) {
+      etaSquared *= bs->etaScale * bs->etaScale;
+      if (bs->etaScale != 1.0f || materials.transmitsIntoAVolume(material)) {
+        if (dot3(bs->wi, hit.ng) < 0.0f) media.enter(material);
+        else media.leave(material);
+      }
+    }
     prevPdfW = bs->pdfW;
     if (bs->dispersive && !terminated && n > 1) {
       if (settings_.spectralMode == SpectralMode::Mis && !bs->specular) {

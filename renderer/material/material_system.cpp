@@ -246,6 +246,13 @@ bool MaterialSystem::interiorAbsorption(int material, const Wavelengths& lambda,
   return true;
 }
 
+bool MaterialSystem::transmitsIntoAVolume(int material) const {
+  const Impl& im = *impl_;
+  const int s = im.slot(material);
+  const GltfMaterial* m = im.gltf(s);
+  return m && im.bindingOfMaterial[size_t(s)] < 0 && !m->thinWalled;
+}
+
 int MaterialSystem::materialOfPrimitive(int primitive) const {
   return primitive >= 0 && size_t(primitive) < impl_->slotOfPrimitive.size() ? impl_->slotOfPrimitive[size_t(primitive)]
                                                                               : int(impl_->scene->materials.size());

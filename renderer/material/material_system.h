@@ -73,6 +73,9 @@ class MaterialSystem {
   // transmittance attenuationColor^(d / attenuationDistance)): the absorption coefficient per
   // wavelength, per metre of path. False for materials without a volume.
   bool interiorAbsorption(int material, const Wavelengths& lambda, Spectrum& sigmaA) const;
+  // Whether light this material transmits enters a volume (a glTF or scene-file pbr material
+  // that is not a thin wall), even one of index 1; .tex materials say so by refracting.
+  bool transmitsIntoAVolume(int material) const;
   // A scalar proxy of the average emitted radiance (for choosing lights by power).
   float averageEmission(int material) const;
 
