@@ -8,6 +8,7 @@
 #include "renderer/bsdf/bsdf_constants.h"
 #include "renderer/bsdf/lambertian.h"
 #include "renderer/bsdf/layer.h"
+#include "renderer/bsdf/microfacet.h"
 
 namespace tex::render {
 namespace {
@@ -135,6 +136,16 @@ float Bsdf::localPdf(const Vec3& wo, const Vec3& wi, TransportMode mode, int lan
   }
   if (weights[count_] > 0.0f) pdfW += weights[count_] * coatPdf(coat_, wo, wi);
   return pdfW / total;
+}
+
+Spectrum Bsdf::straightThrough(const Vec3& wWorld) const {
+  Spectrum t;
+  const float cosTheta = dot3(wWorld, frame_.n);
+  for (int i = 0; i < count_; ++i) {
+    const Lobe& lobe = storage_.lobes[i];
+    if (lobe.kind == LobeKind::ThinDielectric && !(hasCoat_ && lobe.underCoat)) t += thinDielectricStraightThrough(lobe, cosTheta);
+  }
+  return t;
 }
 
 Spectrum Bsdf::eval(const Vec3& woWorld, const Vec3& wiWorld, TransportMode mode) const {

@@ -155,6 +155,11 @@ class Bsdf {
   // that lobe's f and its event probability times its selection probability). uc picks the
   // lobe and is then stretched back to [0,1) for the lobe's own discrete choice.
   std::optional<BsdfSample> sample(const Vec3& woWorld, float uc, Vec2 u2, TransportMode mode) const;
+  // What passes straight through along wWorld (either way), unbent, as a Dirac event: the
+  // smooth thin walls' transmission weight (1 - R') tint, summed; 0 for everything else (and
+  // for lobes under a coat). A shadow ray toward a point or directional light, which no BSDF
+  // sample can find, goes on through such a surface with this factor.
+  Spectrum straightThrough(const Vec3& wWorld) const;
 
  private:
   // The helpers below are inline (defined in bsdf.cpp, the only file that calls them): as calls,

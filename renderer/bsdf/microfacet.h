@@ -57,6 +57,9 @@ std::optional<BsdfSample> roughDielectricSample(const Lobe& lobe, const Vec3& wo
 // R' = R + T^2 R / (1 - R^2) with R the single-interface Fresnel reflectance (pbrt-v4 9.5.1).
 float thinDielectricReflectance(float cosThetaO, float eta);
 std::optional<BsdfSample> thinDielectricSample(const Lobe& lobe, const Vec3& wo, float uc);
+// What a smooth thin wall passes straight through at |cos theta|: weight (1 - R') tint per lane
+// (the weight of its Dirac transmission).
+Spectrum thinDielectricStraightThrough(const Lobe& lobe, float cosTheta);
 // A rough thin wall: GGX reflection with the slab's R'(wo.h), and transmission as that
 // reflection mirrored through the surface plane with 1 - R' (thin_dielectric.cpp).
 Spectrum roughThinDielectricEval(const Lobe& lobe, const Vec3& wo, const Vec3& wi);

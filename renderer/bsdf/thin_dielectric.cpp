@@ -27,6 +27,19 @@ float thinDielectricReflectance(float cosThetaO, float eta) {
   return r < 1.0f ? 2.0f * r / (1.0f + r) : 1.0f;
 }
 
+Spectrum thinDielectricStraightThrough(const Lobe& lobe, float cosTheta) {
+  Spectrum t;
+  const float cosO = std::fabs(cosTheta);
+  if (!(cosO >= kMinCosTheta) || !(lobe.a.v[0] > 0.0f) || !std::isfinite(lobe.a.v[0])) return t;
+  const float heroR = thinDielectricReflectance(cosO, lobe.a.v[0]);
+  for (int i = 0; i < kLanes; ++i) {
+    if (lobe.weight.v[i] == 0.0f) continue;
+    const float r = lobe.etaVaries ? thinDielectricReflectance(cosO, lobe.a.v[i]) : heroR;
+    t.v[i] = lobe.weight.v[i] * (1.0f - r) * lobe.b.v[i];
+  }
+  return t;
+}
+
 std::optional<BsdfSample> thinDielectricSample(const Lobe& lobe, const Vec3& wo, float uc) {
   const float cosO = std::fabs(wo.z);
   if (!(cosO >= kMinCosTheta)) return std::nullopt;

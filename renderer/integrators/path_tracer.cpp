@@ -96,6 +96,38 @@ Ray shadowRay(const Vec3& p, const Vec3& ng, const Vec3& pError, const LightLiSa
   return r;
 }
 
+// A shadow ray toward a point, spot or directional light that something stops: when every
+// surface in the way is one a straight ray may pass (smooth thin walls: windows), the light
+// arrives times what they let through (Bsdf::straightThrough). No BSDF sample can reach such a
+// light, so without this a sun behind a window lit nothing. False when something else stops
+// the ray, or after kMaxWalls walls.
+bool passStraightThrough(const SceneGeometry& geometry, const MaterialSystem& materials, Ray ray, const Wavelengths& lambda,
+                         Spectrum& through, PathCounters& counters) {
+  constexpr int kMaxWalls = 16;
+  const bool toPoint = std::isfinite(ray.tMax);     // else toward a light at infinity
+  const Vec3 target = ray.origin + ray.direction;   // toward a point: the segment's end, t = 1
+  const Vec3 unit = normalize(ray.direction);
+  through = Spectrum(1.0f);
+  SurfaceHit wall;
+  for (int k = 0; k < kMaxWalls; ++k) {
+    ++counters.rays;
+    if (!geometry.intersect(ray, wall)) return true;
+    const int material = materials.materialOfPrimitive(wall.primitive);
+    if (!materials.mayPassStraightRays(material)) return false;
+    Bsdf bsdf(Frame::fromNormalTangent(wall.ns, wall.dpdu), wall.ng);
+    Spectrum emission;
+    if (!materials.shade(material, RenderScene::shadingPoint(wall), lambda, bsdf, emission)) return false;
+    through *= bsdf.straightThrough(unit);
+    if (through.isBlack()) return false;
+    ray.origin = offsetRayOrigin(wall.p, wall.ng, unit, wall.pError);
+    if (toPoint) {
+      ray.direction = target - ray.origin;
+      if (!(dot3(ray.direction, unit) > 0.0f)) return true;  // the wall was at the light
+    }
+  }
+  return false;
+}
+
 }  // namespace
 
 const char* spectralModeName(SpectralMode mode) {
@@ -275,8 +307,14 @@ Spectrum PathTracer::radiance(const sampling::IndexSampler& samples, const Ray& 
           const Spectrum f = bsdf.evalWithPdf(wo, ls->wi, TransportMode::Radiance, bsdfPdfW) * absDot(ls->wi, shadingNormal);
           if (!f.isBlack()) {
             ++counters.rays;
-            if (!geometry.occluded(shadowRay(hit.p, hit.ng, hit.pError, *ls))) {
+            const Ray shadow = shadowRay(hit.p, hit.ng, hit.pError, *ls);
+            bool visible = !geometry.occluded(shadow);
+            Spectrum throughWalls;
+            const bool pastWalls = !visible && ls->delta && straightRaysPass_ &&
+                                   passStraightThrough(geometry, materials, shadow, lambda, throughWalls, counters);
+            if (visible || pastWalls) {
               Spectrum Li = ls->radianceDeferred ? light.deferredRadiance(*ls, lambda) : ls->L;
+              if (pastWalls) Li *= throughWalls;
               // An unoccluded shadow ray crosses no surface: it travels in one medium, wo's
               // unless it leaves through this surface into another.
               if (!media.empty() || absorbing) Li *= shadowTransmittance(materials, media, material, segmentMedium, hit.ng, wo, *ls, lambda);

@@ -53,7 +53,7 @@ struct PathTracerSettings {
 class PathTracer {
  public:
   PathTracer(const RenderScene& scene, const sampling::Sampler& sampler, const PathTracerSettings& settings)
-      : scene_(scene), sampler_(sampler), settings_(settings) {}
+      : scene_(scene), sampler_(sampler), settings_(settings), straightRaysPass_(scene.materials().anyMayPassStraightRays()) {}
 
   SampleRecord record(uint64_t index) const;
   void operator()(uint64_t index, runtime::Emitter<SampleRecord>& out) const { out.emit(record(index)); }
@@ -80,6 +80,9 @@ class PathTracer {
   const RenderScene& scene_;
   sampling::Sampler sampler_;
   PathTracerSettings settings_;
+  // Some material may let straight rays through (thin walls): shadow rays toward delta lights
+  // then look at what stops them.
+  bool straightRaysPass_;
   CounterRegistry counters_;
 };
 

@@ -1,5 +1,6 @@
 #include "renderer/material/material_system.h"
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 
@@ -35,6 +36,7 @@ struct MaterialSystem::Impl {
   std::vector<int> bindingOfMaterial;
   std::vector<int> slotOfPrimitive;  // per primitive: the slot its hits shade with
   std::vector<uint8_t> emissive;       // per material slot
+  std::vector<uint8_t> passesStraightRays;  // per material slot: mayPassStraightRays
   // Per material slot: an unbound glTF material that reads no texture (gltfReadsHit), so
   // shade() may replay the path's earlier evaluation from the memo (material_memo.h).
   std::vector<uint8_t> gltfHitIndependent;
@@ -135,6 +137,13 @@ std::unique_ptr<MaterialSystem> MaterialSystem::create(const SceneDescription& s
   for (size_t p = 0; p < scene.primitives.size(); ++p) {
     const int s = im.slotOfPrimitive[p];
     if (!scene.primitives[p].colors.empty() && s >= 0 && size_t(s) < slots) im.gltfHitIndependent[size_t(s)] = 0;
+  }
+  im.passesStraightRays.assign(slots, 0);
+  for (size_t s = 0; s < slots; ++s) {
+    const int binding = im.bindingOfMaterial[s];
+    const GltfMaterial* m = im.gltf(int(s));
+    if (binding >= 0) im.passesStraightRays[s] = im.compiled.bindings[size_t(binding)].mayBuildThinWall;
+    else if (m) im.passesStraightRays[s] = m->thinWalled && m->transmissionFactor > 0.0f;
   }
   im.emissive.assign(slots, 0);
   im.averageEmission.assign(slots, 0.0f);
@@ -244,6 +253,16 @@ bool MaterialSystem::interiorAbsorption(int material, const Wavelengths& lambda,
   for (int i = 0; i < lambda.count; ++i)
     sigmaA.v[i] = c.v[i] > 0.0f ? -std::log(c.v[i]) / m->attenuationDistance : 1e30f;
   return true;
+}
+
+bool MaterialSystem::mayPassStraightRays(int material) const {
+  const Impl& im = *impl_;
+  return im.passesStraightRays[size_t(im.slot(material))] != 0;
+}
+
+bool MaterialSystem::anyMayPassStraightRays() const {
+  const auto& p = impl_->passesStraightRays;
+  return std::find(p.begin(), p.end(), 1) != p.end();
 }
 
 bool MaterialSystem::transmitsIntoAVolume(int material) const {

@@ -73,6 +73,12 @@ class MaterialSystem {
   // transmittance attenuationColor^(d / attenuationDistance)): the absorption coefficient per
   // wavelength, per metre of path. False for materials without a volume.
   bool interiorAbsorption(int material, const Wavelengths& lambda, Spectrum& sigmaA) const;
+  // Whether a straight ray may pass through this material unbent: it may hold a smooth thin
+  // wall (a .tex thin_dielectric, a glTF thin-walled transmissive material). Such surfaces
+  // let point, spot and directional lights through (Bsdf::straightThrough); false for every
+  // material means shadow rays need not look at what stops them.
+  bool mayPassStraightRays(int material) const;
+  bool anyMayPassStraightRays() const;
   // Whether light this material transmits enters a volume (a glTF or scene-file pbr material
   // that is not a thin wall), even one of index 1; .tex materials say so by refracting.
   bool transmitsIntoAVolume(int material) const;

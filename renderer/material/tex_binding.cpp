@@ -8,6 +8,7 @@
 #include "lang/lexer.h"
 #include "lang/session.h"
 #include "lang/types.h"
+#include "renderer/material/closure_kinds.h"
 #include "renderer/material/hit_dependence.h"
 
 namespace tex::render {
@@ -262,8 +263,10 @@ bool compileBindings(const SceneDescription& scene, int wavelengths, bool quick,
     error = problems + renderedDiagnostics(session);
     return false;
   }
-  for (size_t i = 0; i < bindings.size(); ++i)
+  for (size_t i = 0; i < bindings.size(); ++i) {
     bindings[i].hitIndependent = resultIgnoresParameter(session.program(), entries[i], 0);
+    bindings[i].mayBuildThinWall = mayBuildPrimitive(session.program(), entries[i], lang::ir::Prim::MatThinDielectric);
+  }
   const compiler::CompileOptions options = materialCompileOptions(wavelengths, quick, useCache);
   out.module = compiler::compile(session.program(), entries, options, session.diags());
   if (!out.module) {

@@ -24,6 +24,8 @@ struct CompiledBinding {
   // The closure tree provably does not depend on the Hit (hit_dependence.h): it is a function
   // of the wavelengths alone, and one evaluation serves every hit of a wavelength group.
   bool hitIndependent = false;
+  // The closure tree may hold a thin wall (closure_kinds.h), which straight rays pass.
+  bool mayBuildThinWall = false;
 };
 
 struct CompiledBindings {

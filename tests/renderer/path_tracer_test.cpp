@@ -12,6 +12,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <tuple>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -344,6 +345,42 @@ TEST(PathTracer, RouletteSeesThroughTheUnitsOfRadianceInsideDenseGlass) {
   EXPECT_NEAR(e.mean, 1.0, 4 * e.standardError + 1e-6);
   const double sampleDeviation = e.standardError * std::sqrt(double(kSamples));
   EXPECT_LT(sampleDeviation, 0.05);
+}
+
+// A grey floor (albedo 0.5) at z = 0 under a smooth thin wall at z = 1 (a window: IOR 1.5,
+// transmission tint 0.5), seen from above through the wall and lit from above by a sun
+// (irradiance pi) or a point light, which no BSDF sample can hit: shadow rays pass the wall
+// with its (1 - R') tint. They had stopped at it: the floor was black.
+TEST(PathTracer, PointAndDirectionalLightsShineThroughSmoothThinWalls) {
+  const std::string file = writeTexModule("window", "export fn pane(h: Hit) -> Material = thin_dielectric(1.5, 0.0, 0.5)\n"
+                                                    "export fn floor(h: Hit) -> Material = diffuse(spectrum(0.5))\n");
+  const float wallR = 2.0f * 0.04f / 1.04f, wallT = (1.0f - wallR) * 0.5f;
+  for (const bool sun : {true, false}) {
+    SceneDescription scene;
+    for (const auto& [name, z, size] : {std::tuple{"pane", 1.0f, 4.0f}, std::tuple{"floor", 0.0f, 10.0f}}) {
+      MeshPrimitive quad = makeQuad(Vec3(-size / 2, -size / 2, z), Vec3(size, 0, 0), Vec3(0, size, 0));
+      quad.material = int(scene.materials.size());
+      scene.primitives.push_back(quad);
+      scene.instances.push_back(MeshInstance{int(scene.primitives.size()) - 1, Mat4(1.0f), name});
+      GltfMaterial m;
+      m.name = name;
+      scene.materials.push_back(m);
+    }
+    test::bindEntriesByMaterialName(scene, file, {"pane", "floor"});
+    scene.cameras.push_back(test::cameraLookingDownZ(Vec3(0.0f, 0.0f, 3.0f), 0.05f));
+    LightDesc light;
+    light.kind = sun ? LightDesc::Kind::Directional : LightDesc::Kind::Point;
+    light.position = Vec3(0.0f, 0.0f, 2.0f);
+    light.direction = Vec3(0.0f, 0.0f, -1.0f);
+    light.emission.kind = SpectrumDesc::Kind::Constant;
+    light.emission.value = 1.0f;
+    light.intensity = sun ? float(M_PI) : 4.0f * float(M_PI);  // irradiance pi on the floor either way (r = 2)
+    scene.lights.push_back(light);
+    // Depth 2: the wall, then the floor's direct light. The camera sees the floor through the
+    // wall (a fraction wallT of its paths, or R' reflected to nothing): 0.5 wallT x wallT.
+    const Estimate e = estimateRadiance(scene, 2, 4, 1 << 14);
+    EXPECT_NEAR(e.mean, 0.5 * wallT * wallT, 4 * e.standardError + 0.01 * 0.5 * wallT * wallT) << (sun ? "sun" : "point");
+  }
 }
 
 // A scene built for a square image of `size` pixels, without the JIT's disk cache.
