@@ -1,6 +1,6 @@
 // Shading hot paths of general scenes (glTF models, image-based lighting), one thread: a
 // coated BSDF (std.gltf's plastic: Lambertian under a GGX dielectric coat) evaluated and
-// sampled, image texture lookups (bilinear, sRGB, from an 8-bit image kept as bytes and the
+// sampled, the glossy model's reflection lobe evaluated, image texture lookups (bilinear, sRGB, from an 8-bit image kept as bytes and the
 // same image as floats), and an image environment's light samples and radiance lookups
 // (a 512x256 and a 4096x2048 map with a small bright sun). Items are evaluations, samples or
 // lookups; compare items_per_second between builds (docs/renderer.md, round 10).
@@ -73,6 +73,28 @@ void BM_CoatedBsdfSample(benchmark::State& state) {
   state.SetItemsProcessed(int64_t(state.iterations()));
 }
 BENCHMARK(BM_CoatedBsdfSample);
+
+// The glossy model's reflection lobe (glossy(0.7, n), docs/glossy-model.md) evaluated with its
+// density at random direction pairs: its disk masses come from the mass table since round 16.
+void BM_GlossyReflectionEvalWithPdf(benchmark::State& state) {
+  Bsdf bsdf(Frame(), Vec3(0, 0, 1));
+  Lobe glossy;
+  glossy.kind = LobeKind::GlossyReflection;
+  glossy.exponent = float(state.range(0));
+  for (int i = 0; i < 4; ++i) glossy.weight.v[i] = 0.7f;
+  bsdf.add(glossy);
+  const std::vector<Vec2> a = uniformPairs(5), b = uniformPairs(6);
+  size_t i = 0;
+  for (auto _ : state) {
+    const Vec3 wo = sampleUniformHemisphere(a[i % kPool]), wi = sampleUniformHemisphere(b[i % kPool]);
+    float pdfW = 0.0f;
+    benchmark::DoNotOptimize(bsdf.evalWithPdf(wo, wi, TransportMode::Radiance, pdfW));
+    benchmark::DoNotOptimize(pdfW);
+    ++i;
+  }
+  state.SetItemsProcessed(int64_t(state.iterations()));
+}
+BENCHMARK(BM_GlossyReflectionEvalWithPdf)->Arg(10)->Arg(100);
 
 // Arg 0: an 8-bit RGBA image kept as bytes; 1: the same values as floats (16-bit sources).
 void BM_TextureLookupSrgbBilinear(benchmark::State& state) {
