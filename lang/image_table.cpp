@@ -111,6 +111,20 @@ bool hasPrefix(const std::string& head, const char* magic, size_t n) {
   return head.size() >= n && std::memcmp(head.data(), magic, n) == 0;
 }
 
+// srgbToLinear of every 8- or 16-bit code (code x 1/255 or 1/65535, as decodePng scales them):
+// the same floats as calling it per texel, without a pow per channel (40 % of loading an 8k
+// PNG had been powf).
+const std::vector<float>& srgbDecodeTable(bool sixteen) {
+  const auto build = [](size_t codes) {
+    std::vector<float> table(codes);
+    const float scale = 1.0f / float(codes - 1);
+    for (size_t i = 0; i < codes; ++i) table[i] = srgbToLinear(float(i) * scale);
+    return table;
+  };
+  static const std::vector<float> eight = build(256), sixteenBit = build(65536);
+  return sixteen ? sixteenBit : eight;
+}
+
 bool decodePng(const std::string& path, bool data, ImageLevel& out, std::string& message) {
   int w = 0, h = 0, channels = 0;
   bool sixteen = stbi_is_16_bit(path.c_str()) != 0;
@@ -125,10 +139,11 @@ bool decodePng(const std::string& path, bool data, ImageLevel& out, std::string&
   out.height = h;
   out.rgba.resize(size_t(w) * size_t(h) * 4);
   float scale = sixteen ? 1.0f / 65535.0f : 1.0f / 255.0f;
+  const std::vector<float>& decoded = srgbDecodeTable(sixteen);
   for (size_t i = 0; i < out.rgba.size(); ++i) {
-    float x = float(sixteen ? static_cast<uint16_t*>(pixels)[i] : static_cast<uint8_t*>(pixels)[i]) * scale;
+    const unsigned code = sixteen ? static_cast<uint16_t*>(pixels)[i] : static_cast<uint8_t*>(pixels)[i];
     bool alpha = i % 4 == 3;
-    out.rgba[i] = data || alpha ? x : srgbToLinear(x);  // alpha is linear coverage in PNG
+    out.rgba[i] = data || alpha ? float(code) * scale : decoded[code];  // alpha is linear coverage in PNG
   }
   stbi_image_free(pixels);
   return true;
