@@ -120,12 +120,18 @@ void FilmMemory::deallocate(void* p, size_t bytes) {
   }
 }
 
+int FilmAccumulator::sumsPerPixelFor(const FilmSettings& settings) {
+  const bool scalar = settings.valueKind == ValueKind::Scalar, box = settings.filter == FilterKind::Box;
+  if (scalar) return box ? kScalarStride : kScalarFilterStride;
+  return (box ? kBoxSums : kFilterSums) + std::max(0, settings.spectralBins);
+}
+
 FilmAccumulator::FilmAccumulator(const FilmSettings& settings)
     : settings_(settings), filter_(settings.filter), scalar_(settings.valueKind == ValueKind::Scalar) {
   settings_.spectralBins = scalar_ ? 0 : std::max(0, settings.spectralBins);
   box_ = settings_.filter == FilterKind::Box;
   binsAt_ = box_ ? kBoxSums : kFilterSums;
-  stride_ = scalar_ ? (box_ ? kScalarStride : kScalarFilterStride) : binsAt_ + settings_.spectralBins;
+  stride_ = sumsPerPixelFor(settings_);
   sums_.assign(size_t(std::max(0, settings_.width)) * std::max(0, settings_.height) * stride_, 0);
   binScratch_.assign(settings_.spectralBins, 0.0f);
 }

@@ -96,6 +96,8 @@ class FilmAccumulator {
   // The raw fixed-point sums (for bit-identity tests).
   const FilmSums& sums() const { return sums_; }
   int sumsPerPixel() const { return stride_; }
+  // What sumsPerPixel() will be for a film of these settings (before allocating one).
+  static int sumsPerPixelFor(const FilmSettings& settings);
 
  private:
   struct Colour {

@@ -6,8 +6,8 @@ namespace tex {
 
 void FilmSink::begin(int workerSlots) {
   const size_t filmBytes =
-      std::max<size_t>(1, size_t(std::max(film_.settings().width, 0)) * size_t(std::max(film_.settings().height, 0)) *
-                              size_t(film_.sumsPerPixel()) * sizeof(int64_t));
+      std::max<size_t>(1, size_t(std::max(settings_.width, 0)) * size_t(std::max(settings_.height, 0)) *
+                              size_t(FilmAccumulator::sumsPerPixelFor(settings_)) * sizeof(int64_t));
   const size_t affordable = std::max<size_t>(1, memoryBudgetBytes_ / filmBytes);
   accumulatorCount_ = int(std::min<size_t>(size_t(std::max(workerSlots, 1)), affordable));
   accumulators_.clear();
@@ -17,13 +17,16 @@ void FilmSink::begin(int workerSlots) {
 void FilmSink::consume(int slot, const runtime::ChunkRecords<SampleRecord>& chunk) {
   Shared& shared = *accumulators_[size_t(slot) % accumulators_.size()];
   std::lock_guard<std::mutex> lock(shared.mutex);  // uncontended unless slots share it
-  if (!shared.film) shared.film = std::make_unique<FilmAccumulator>(film_.settings());
+  if (!shared.film) shared.film = std::make_unique<FilmAccumulator>(settings_);
   shared.film->add(chunk.records.data(), chunk.records.size());
 }
 
 void FilmSink::end(const runtime::SchedulerResult& result) {
-  for (const auto& shared : accumulators_)
-    if (shared->film) film_.merge(*shared->film);
+  for (const auto& shared : accumulators_) {
+    if (!shared->film) continue;
+    if (!film_) film_.emplace(std::move(*shared->film));  // integer sums: adopting is merging into zeros
+    else film_->merge(*shared->film);
+  }
   accumulators_.clear();
   samples_ += result.samplesDone;
 }
