@@ -59,7 +59,7 @@ ImageEnvironment::ImageEnvironment(const RgbImage& image, const Mat4& environmen
   if (!valid) width_ = height_ = 1;  // an inconsistent image: one black pixel (the loader reports bad files)
   const size_t pixels = size_t(width_) * size_t(height_);
   fitted_.resize(pixels);
-  luminance_.resize(pixels);
+  std::vector<float> luminance(pixels);
   // Each pixel on its own: the result does not depend on the thread count.
   std::atomic<uint64_t> dropped{0};
   tbb::parallel_for(tbb::blocked_range<size_t>(0, pixels, 4096), [&](const tbb::blocked_range<size_t>& range) {
@@ -78,13 +78,13 @@ ImageEnvironment::ImageEnvironment(const RgbImage& image, const Mat4& environmen
         c = Vec3(0.0f);
       }
       fitted_[i] = rgbToUnbounded(c);
-      luminance_[i] = std::max(0.0f, luminanceOf(c));
+      luminance[i] = std::max(0.0f, luminanceOf(c));
     }
   });
   std::vector<float> rowWeights(size_t(height_), 0.0f);
   columns_.reserve(size_t(height_));
   for (int y = 0; y < height_; ++y) {
-    std::vector<float> row(luminance_.begin() + ptrdiff_t(y) * width_, luminance_.begin() + ptrdiff_t(y + 1) * width_);
+    std::vector<float> row(luminance.begin() + ptrdiff_t(y) * width_, luminance.begin() + ptrdiff_t(y + 1) * width_);
     columns_.emplace_back(row);
     const float dCos = rowCosTheta(y, height_) - rowCosTheta(y + 1, height_);
     rowWeights[size_t(y)] = float(columns_.back().total()) * dCos;
@@ -101,7 +101,10 @@ ImageEnvironment::Pixel ImageEnvironment::pixelOf(const Vec3& wWorld) const {
 }
 
 float ImageEnvironment::pdfW(Pixel p) const {
-  return luminanceIntegral_ > 0.0f ? luminance_[size_t(p.y) * size_t(width_) + size_t(p.x)] / luminanceIntegral_ : 0.0f;
+  // The column's own weight: the luminance sampleDirection chose by (a load it has just made
+  // when this follows a sample; a second array of luminances had cost a cache miss per light
+  // sample), and 0 for a pixel whose luminance overflowed, as the sampler treats it.
+  return luminanceIntegral_ > 0.0f ? columns_[size_t(p.y)].weight(p.x) / luminanceIntegral_ : 0.0f;
 }
 
 Spectrum ImageEnvironment::radiance(Pixel p, const Wavelengths& lambda) const {

@@ -51,7 +51,6 @@ class ImageEnvironment final : public Light {
   // Each pixel's colour (clamped to >= 0, times scale) fitted once as an unbounded sigmoid
   // spectrum: the fit (rgbToUnbounded, a search of the RGB table) cost more than the lookup.
   std::vector<RgbUnbounded> fitted_;
-  std::vector<float> luminance_;  // per pixel
   glm::mat3 toWorld_{1.0f};
   PiecewiseConstant1D rows_;                  // weight: sum of luminance x (cos theta0 - cos theta1)
   std::vector<PiecewiseConstant1D> columns_;  // per row, weight: luminance
