@@ -138,6 +138,37 @@ float Bsdf::localPdf(const Vec3& wo, const Vec3& wi, TransportMode mode, int lan
   return pdfW / total;
 }
 
+namespace {
+void immerseLobe(Lobe& lobe, const Spectrum& outside, bool outsideVaries) {
+  switch (lobe.kind) {
+    case LobeKind::SmoothDielectric:
+    case LobeKind::RoughDielectric:
+    case LobeKind::GlossyDielectric:
+    case LobeKind::ThinDielectric:
+    case LobeKind::RoughThinDielectric:
+      for (int i = 0; i < kLanes; ++i) lobe.a.v[i] /= outside.v[i];
+      lobe.etaVaries = lobe.etaVaries || outsideVaries;
+      return;
+    case LobeKind::SmoothConductor:
+    case LobeKind::RoughConductor:
+      for (int i = 0; i < kLanes; ++i) lobe.a.v[i] /= outside.v[i], lobe.b.v[i] /= outside.v[i];
+      return;
+    default:
+      return;
+  }
+}
+}  // namespace
+
+void Bsdf::immerse(const Spectrum& outside, bool outsideVaries) {
+  for (int i = 0; i < count_; ++i) {
+    Lobe& lobe = storage_.lobes[i];
+    immerseLobe(lobe, outside, outsideVaries);
+    hasDispersiveDensity_ = hasDispersiveDensity_ ||
+                            (!lobeIsSpecular(lobe.kind) && lobe.etaVaries && lobe.kind != LobeKind::RoughThinDielectric);
+  }
+  if (hasCoat_) immerseLobe(coat_, outside, outsideVaries);
+}
+
 Spectrum Bsdf::straightThrough(const Vec3& wWorld) const {
   Spectrum t;
   const float cosTheta = dot3(wWorld, frame_.n);

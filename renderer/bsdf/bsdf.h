@@ -160,6 +160,11 @@ class Bsdf {
   // for lobes under a coat). A shadow ray toward a point or directional light, which no BSDF
   // sample can find, goes on through such a surface with this factor.
   Spectrum straightThrough(const Vec3& wWorld) const;
+  // The surface sits in a medium of IOR `outside` (per lane; 1 in unused lanes) instead of air:
+  // every interface's IOR becomes relative to it (dielectric lobes, thin walls and the coat
+  // divide eta by it, conductors eta and k), so that water in glass refracts by 1.33 / 1.5.
+  // `outsideVaries`: the medium is dispersive, so the relative IORs vary between lanes.
+  void immerse(const Spectrum& outside, bool outsideVaries);
 
  private:
   // The helpers below are inline (defined in bsdf.cpp, the only file that calls them): as calls,

@@ -63,6 +63,18 @@ Spectrum shadowTransmittance(const MaterialSystem& materials, const MediumStack&
   return exp(sigmaA * -ls.distance);
 }
 
+// Bsdf::immerse in the medium around `material` on the path's stack, when that medium has a
+// known IOR (glTF and pbr solids).
+void immerseInOutsideMedium(const MaterialSystem& materials, const MediumStack& media, int material, const Wavelengths& lambda,
+                            Bsdf& bsdf) {
+  const int outside = media.innermostOutside(material);
+  Spectrum eta;
+  if (outside < 0 || !materials.interiorIor(outside, lambda, eta)) return;
+  bool varies = false;
+  for (int i = 1; i < lambda.count; ++i) varies = varies || eta.v[i] != eta.v[0];
+  bsdf.immerse(eta, varies);
+}
+
 // Writes the continuation ray into the path's own Ray: a returned Ray was assembled on the
 // stack in 8- and 4-byte pieces and copied with 16-byte loads, which stalled on store forwarding.
 void spawnRayInto(Ray& r, const Vec3& p, const Vec3& ng, const Vec3& pError, const Vec3& direction) {
@@ -253,6 +265,10 @@ Spectrum PathTracer::radiance(const sampling::IndexSampler& samples, const Ray& 
     Bsdf bsdf(Frame::fromNormalTangent(hit.ns, hit.dpdu), hit.ng);
     Spectrum Le;
     if (!materials.shade(material, sp, lambda, bsdf, Le)) ++counters.materialFailures;
+    // Inside a volume, this surface's interfaces are with that volume's medium, not air (water
+    // in a glass bends light by 1.33 / 1.5): the medium around it once it is left, or the
+    // innermost one when it was never entered.
+    if (!media.empty()) immerseInOutsideMedium(materials, media, material, lambda, bsdf);
     // The cosine is the BSDF's own shading normal's: a normal map replaces the frame, and with
     // the mesh's interpolated normal it had almost no effect on diffuse shading.
     const Vec3 shadingNormal = bsdf.frame().n;

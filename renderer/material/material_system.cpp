@@ -272,6 +272,19 @@ bool MaterialSystem::transmitsIntoAVolume(int material) const {
   return m && im.bindingOfMaterial[size_t(s)] < 0 && !m->thinWalled;
 }
 
+bool MaterialSystem::interiorIor(int material, const Wavelengths& lambda, Spectrum& eta) const {
+  if (!transmitsIntoAVolume(material)) return false;
+  const GltfMaterial& m = *impl_->gltf(impl_->slot(material));
+  const float ior = m.ior >= 1.0f ? m.ior : 1.5f;
+  eta = Spectrum(1.0f);
+  for (int i = 0; i < lambda.count; ++i) {
+    const float l = lambda.lambdaNm[i];
+    eta.v[i] = m.dispersion > 0.0f ? std::max(ior + (ior - 1.0f) * m.dispersion / 20.0f * (523655.0f / (l * l) - 1.5168f), 1.0f)
+                                   : ior;
+  }
+  return true;
+}
+
 int MaterialSystem::materialOfPrimitive(int primitive) const {
   return primitive >= 0 && size_t(primitive) < impl_->slotOfPrimitive.size() ? impl_->slotOfPrimitive[size_t(primitive)]
                                                                               : int(impl_->scene->materials.size());

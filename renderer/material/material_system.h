@@ -82,6 +82,10 @@ class MaterialSystem {
   // Whether light this material transmits enters a volume (a glTF or scene-file pbr material
   // that is not a thin wall), even one of index 1; .tex materials say so by refracting.
   bool transmitsIntoAVolume(int material) const;
+  // The IOR inside a volume of this material at each wavelength (glTF and scene-file pbr solids:
+  // ior, with KHR_materials_dispersion's formula as std.gltf.dispersive_ior has it; an invalid
+  // ior reads as 1.5 as there). False for others (.tex materials: their IOR is in their code).
+  bool interiorIor(int material, const Wavelengths& lambda, Spectrum& eta) const;
   // A scalar proxy of the average emitted radiance (for choosing lights by power).
   float averageEmission(int material) const;
 

@@ -153,5 +153,58 @@ TEST(VolumeAbsorption, ShadowRaysInsideAVolumeAreAbsorbed) {
   EXPECT_LT(worst, 0.01 * intensity / 0.25 / M_PI);
 }
 
+// A glass block inside a glass block of the same IOR (different objects, as a liquid in its
+// glass) is invisible: its surfaces are interfaces between equal media. Seen head-on over a
+// lamp, the pair transmits what the outer slab alone does, (1 - R) / (1 + R) with R = 0.04. The
+// inner surfaces had been taken as glass against air: about (1 - R)^2 less.
+TEST(VolumeAbsorption, InterfacesInsideAVolumeAreRelativeToItsMedium) {
+  SceneDescription scene;
+  const auto addBox = [&](Vec3 size) {
+    MeshPrimitive box = makeBox(Vec3(0.0f), size, false);
+    box.material = int(scene.materials.size());
+    scene.primitives.push_back(box);
+    scene.instances.push_back(MeshInstance{int(scene.primitives.size()) - 1, Mat4(1.0f), "box"});
+    GltfMaterial glass;
+    glass.transmissionFactor = 1.0f;
+    glass.metallicFactor = 0.0f;
+    glass.roughnessFactor = 0.0f;
+    glass.ior = 1.5f;
+    glass.thicknessFactor = 1.0f;
+    scene.materials.push_back(glass);
+  };
+  addBox(Vec3(4.0f, 4.0f, 2.0f));
+  addBox(Vec3(1.0f));
+  MeshPrimitive lamp = makeQuad(Vec3(-5.0f, -5.0f, -3.0f), Vec3(10.0f, 0.0f, 0.0f), Vec3(0.0f, 10.0f, 0.0f));
+  lamp.material = int(scene.materials.size());
+  scene.primitives.push_back(lamp);
+  scene.instances.push_back(MeshInstance{int(scene.primitives.size()) - 1, Mat4(1.0f), "lamp"});
+  GltfMaterial lampMaterial;
+  lampMaterial.name = "lamp";
+  scene.materials.push_back(lampMaterial);
+  test::bindEntriesByMaterialName(scene, test::writeTexModule("nested_lamp", "export fn lamp(h: Hit) -> Material = emission(spectrum(1.0))\n"), {"lamp"});
+  scene.cameras.push_back(test::cameraLookingDownZ(Vec3(0.0f, 0.0f, 100.0f), 0.0005f));
+  RenderSceneOptions o;
+  o.useCache = false;
+  std::string error;
+  std::unique_ptr<RenderScene> rs = RenderScene::build(scene, o, error);
+  ASSERT_TRUE(rs) << error;
+  PathTracerSettings settings;
+  settings.maxDepth = 100;
+  settings.rouletteDepth = 100;
+  const PathTracer tracer(*rs, sampling::Sampler(sampling::SamplerKind::Sobol, 1), settings);
+  constexpr int kSamples = 1 << 15;
+  double sum = 0, sum2 = 0;
+  for (uint64_t i = 0; i < kSamples; ++i) {
+    const SampleRecord r = tracer.record(i);
+    double v = 0;
+    for (int j = 0; j < r.wavelengthCount; ++j) v += r.values[j] * color::visibleWavelengthPdf(r.lambdaNm[j]);
+    v /= r.wavelengthCount;
+    sum += v, sum2 += v * v;
+  }
+  const double mean = sum / kSamples, standardError = std::sqrt((sum2 / kSamples - mean * mean) / kSamples);
+  const double expected = (1.0 - 0.04) / (1.0 + 0.04);
+  EXPECT_NEAR(mean, expected, 4 * standardError + 1e-4);
+}
+
 }  // namespace
 }  // namespace tex::render
