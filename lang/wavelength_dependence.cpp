@@ -35,12 +35,15 @@ int WavelengthDependence::entryContext(int function) {
 }
 
 int WavelengthDependence::calleeContext(int context, const Node* n) {
+  if (context < 0 || size_t(context) >= contexts_.size()) return -1;
   const auto& callees = contexts_[size_t(context)]->callees;
   auto it = callees.find(n);
   return it == callees.end() ? -1 : it->second;
 }
 
 uint32_t WavelengthDependence::flags(int context, const Node* n) const {
+  // An unanalysed call path (there should be none): assume the leaf varies, the safe answer.
+  if (context < 0 || size_t(context) >= contexts_.size()) return kMaterialVariesWithWavelength;
   const auto& leaves = contexts_[size_t(context)]->leafFlags;
   auto it = leaves.find(n);
   return it == leaves.end() ? 0 : it->second;
@@ -104,10 +107,13 @@ bool WavelengthDependence::walkNode(Context& c, const Node* n, std::vector<bool>
       return walk(c, n->args[1], slots);
     }
     case Node::Kind::Prim: {
+      // The argument is walked even where the result depends regardless: calls inside it need
+      // their callee contexts (code generation of a material built in such a call had read
+      // context -1 and crashed: reflectance_spectrum(c()) with c building a diffuse).
+      bool depends = anyArg();
       if (n->prim == Prim::Wavelengths || n->prim == Prim::RgbReflectance || n->prim == Prim::RgbUnbounded ||
           n->prim == Prim::RgbIlluminant)
         return true;
-      bool depends = anyArg();
       if (isMaterialLeaf(n->prim) && depends) c.leafFlags[n] |= kMaterialVariesWithWavelength;
       return depends;
     }
