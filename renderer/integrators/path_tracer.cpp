@@ -167,10 +167,9 @@ SampleRecord PathTracer::record(uint64_t index) const {
   rec.filmY = film.y;
   rec.weight = 1.0f;
   rec.technique = kTechniqueCamera;
-  // The hero lane is picked by dimension 3, stratified jointly with the group's dimension 2,
-  // where the lens leaves that dimension free (pinhole, orthographic); otherwise by a hash.
+  // The hero lane is picked by dimension 3, stratified jointly with the group's dimension 2.
   const Vec2 uLens(samples.get(kLensDimension), samples.get(kLensDimension + 1));
-  const float uHero = scene_.camera().usesLens() ? samples.independent(kHeroLaneStream) : uLens.x;
+  const float uHero = samples.get(kHeroLaneDimension);
   Wavelengths lambda =
       color::sampleWavelengthGroupStratified(samples.get(sampling::kWavelengthDimension), uHero, settings_.wavelengths);
   rec.wavelengthCount = uint8_t(lambda.count);
@@ -311,10 +310,10 @@ Spectrum PathTracer::radiance(const sampling::IndexSampler& samples, const Ray& 
     const int dim = kFirstBounceDimension + depth * kDimensionsPerBounce;
     // Next-event estimation: one light chosen by power.
     if (settings_.nextEventEstimation && bsdf.hasNonSpecular() && lightSampler.size() > 0) {
-      const auto choice = lightSampler.sample(samples.get(dim));
+      const auto choice = lightSampler.sample(samples.get(dim + kLightChoice));
       if (choice) {
         const Light& light = *lights[size_t(choice->first)];
-        const Vec2 u(samples.get(dim + 1), samples.get(dim + 2));
+        const Vec2 u(samples.get(dim + kLight2D), samples.get(dim + kLight2D + 1));
         // The light's radiance (an area light's material emission) only once the sample is
         // known to be visible: most of its cost is spent on samples that are not.
         const std::optional<LightLiSample> ls = light.sampleLiDeferred(hit.p, u, lambda);
@@ -348,8 +347,8 @@ Spectrum PathTracer::radiance(const sampling::IndexSampler& samples, const Ray& 
     }
 
     // Continue the path by sampling the BSDF.
-    const Vec2 u(samples.get(dim + 4), samples.get(dim + 5));
-    const std::optional<BsdfSample> bs = bsdf.sample(wo, samples.get(dim + 3), u, TransportMode::Radiance);
+    const Vec2 u(samples.get(dim + kBsdf2D), samples.get(dim + kBsdf2D + 1));
+    const std::optional<BsdfSample> bs = bsdf.sample(wo, samples.get(dim + kLobeChoice), u, TransportMode::Radiance);
     if (!bs || !(bs->pdfW > 0.0f) || bs->f.isBlack()) break;
     beta *= bs->f * (absDot(bs->wi, shadingNormal) / bs->pdfW);
     if (bs->transmission) {
@@ -390,7 +389,7 @@ Spectrum PathTracer::radiance(const sampling::IndexSampler& samples, const Ray& 
     }
     if (depth + 1 >= settings_.rouletteDepth) {
       const float survive = std::min(1.0f, beta.maxValue() * spectralWeight * etaSquared);
-      if (samples.get(dim + 6) >= survive) break;
+      if (samples.get(dim + kRoulette) >= survive) break;
       beta = beta / survive;
     }
   }

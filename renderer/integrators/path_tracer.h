@@ -59,13 +59,16 @@ class PathTracer {
   void operator()(uint64_t index, runtime::Emitter<SampleRecord>& out) const { out.emit(record(index)); }
   PathCounters counters() const { return counters_.total(); }
 
-  // Sampler dimensions: after the shared ones (film 0-1, wavelengths 2) the lens takes 2, then
-  // every bounce takes kDimensionsPerBounce.
-  static constexpr int kLensDimension = sampling::kFirstKernelDimension;
-  static constexpr int kFirstBounceDimension = kLensDimension + 2;
-  static constexpr int kDimensionsPerBounce = 7;  // light choice, light 2D, lobe choice, BSDF 2D, roulette
-  // The stream of IndexSampler::independent that picks the hero lane of the wavelength group.
-  static constexpr uint64_t kHeroLaneStream = 0x4e50;
+  // Sampler dimensions, laid out so that every 2D pair is the first two of one of the sampler's
+  // groups of four (padded_sobol.h: Sobol dimensions 0 and 1, a (0,m,2)-net per pixel): film
+  // 0-1 and wavelengths 2 (shared), the hero lane 3, the lens 4-5, then from 8 every bounce
+  // takes kDimensionsPerBounce = 8: light 2D (+0, +1), light choice (+2), roulette (+3); BSDF
+  // 2D (+4, +5), lobe choice (+6), one unused.
+  static constexpr int kHeroLaneDimension = sampling::kFirstKernelDimension;
+  static constexpr int kLensDimension = 4;
+  static constexpr int kFirstBounceDimension = 8;
+  static constexpr int kDimensionsPerBounce = 8;
+  static constexpr int kLight2D = 0, kLightChoice = 2, kRoulette = 3, kBsdf2D = 4, kLobeChoice = 6;
 
  private:
   // Where the camera ray started, so that the first hit can trace the neighbouring pixels'

@@ -37,6 +37,7 @@ struct PixelGrid {
 struct PixelSample {
   int x = 0, y = 0;
   uint64_t sobolIndex = 0;
+  uint64_t sampleInPixel = 0;  // s: this is the pixel's s-th sample
 };
 
 class PixelSampleMap {
@@ -76,6 +77,7 @@ class PixelSampleMap {
       blockPart &= cellMask_;
     }
     out.sobolIndex = (uint64_t(firstBlockIndex_[size_t(p)]) ^ (uint64_t(applyHighInverse(blockPart)) << cellBits_)) + block;
+    out.sampleInPixel = s;
     return out;
   }
   const PixelGrid& grid() const { return grid_; }

@@ -49,11 +49,16 @@ IndexSampler::IndexSampler(const Sampler& sampler, uint64_t index) : sampler_(sa
     const PixelSample ps = sampler.pixels_.map(index);
     index_ = ps.sobolIndex;
     film_ = sampler.pixelFilmPosition(ps);
+    if (sampler.kind_ == SamplerKind::Sobol) {
+      padded_ = true;
+      pixelKey_ = sampler.pixelKeyOf(ps);
+      sampleInPixel_ = uint32_t(ps.sampleInPixel);
+    }
   } else {
     index_ = index;
     film_ = sampler.filmPosition(index);
   }
-  fast_ = sampler.kind_ == SamplerKind::Sobol && (index_ >> 32) == 0;
+  fast_ = !padded_ && sampler.kind_ == SamplerKind::Sobol && (index_ >> 32) == 0;
   lowByte_ = uint32_t(index_) & 0xffu;
   seeds_ = sampler.scrambleSeeds_->data();
   // Uninitialised otherwise: get() then never reads it.

@@ -13,6 +13,7 @@
 #include <string>
 
 #include "renderer/sampling/hash.h"
+#include "renderer/sampling/padded_sobol.h"
 #include "renderer/sampling/pixel_grid.h"
 #include "renderer/sampling/sobol.h"
 
@@ -46,7 +47,11 @@ class Sampler {
 
   // Coordinate `dimension` of sample `index`, in [0,1).
   float get(uint64_t index, int dimension) const {
-    if (hasGrid_) return getAt(pixels_.map(index).sobolIndex, dimension);
+    if (hasGrid_) {
+      const PixelSample ps = pixels_.map(index);
+      if (padded(dimension)) return bitsToUnitFloat(paddedBitsOf(ps, dimension));
+      return getAt(ps.sobolIndex, dimension);
+    }
     return getAt(index, dimension);
   }
   // Coordinate `dimension` of point `pointIndex` of the sequence itself (no pixel mapping).
@@ -63,7 +68,9 @@ class Sampler {
   }
   // 32 fixed-point bits of the same coordinate (for exact stratification tests).
   uint32_t getBits(uint64_t index, int dimension) const {
-    return getBitsAt(hasGrid_ ? pixels_.map(index).sobolIndex : index, dimension);
+    if (!hasGrid_) return getBitsAt(index, dimension);
+    const PixelSample ps = pixels_.map(index);
+    return padded(dimension) ? paddedBitsOf(ps, dimension) : getBitsAt(ps.sobolIndex, dimension);
   }
   uint32_t getBitsAt(uint64_t pointIndex, int dimension) const;
   // Dimensions 0 and 1: where sample `index` lands on the film (inline: every kernel calls it
@@ -81,6 +88,15 @@ class Sampler {
  private:
   friend class IndexSampler;
   FilmPosition filmPositionGeneral(uint64_t index) const;
+  // Dimensions from 2 of a Sobol render are padded per pixel (padded_sobol.h).
+  bool padded(int dimension) const { return hasGrid_ && kind_ == SamplerKind::Sobol && dimension >= kWavelengthDimension; }
+  uint64_t pixelKeyOf(const PixelSample& ps) const {
+    return paddedPixelKey(seed_, ps.x + pixels_.grid().originX, ps.y + pixels_.grid().originY);
+  }
+  uint32_t paddedBitsOf(const PixelSample& ps, int dimension) const {
+    const uint64_t key = pixelKeyOf(ps);
+    return paddedBits(key, paddedGroupIndex(key, uint32_t(ps.sampleInPixel), dimension / kPaddedGroupSize), dimension);
+  }
   // The film position of a mapped sample: its pixel plus the offset of dimensions 0 and 1.
   // The point's position within its cell of 2^r x 2^r (the fraction of 2^r times its film
   // coordinates) placed in the sample's pixel: exactly the point itself when it lies in that
@@ -136,6 +152,8 @@ class IndexSampler {
   // pixel grid).
   IndexSampler(const Sampler& sampler, uint64_t index);
   float get(int dimension) const {
+    if (padded_ && dimension >= kWavelengthDimension)  // reverseLow24: the float's 24 bits, as the fast path
+      return float(reverseLow24(paddedReversedBitsAt(dimension))) * 0x1p-24f;
     if (fast_ && unsigned(dimension) < unsigned(kSobolByteTableDimensions)) {
       const uint32_t reversed = kSobolReversedByteTables[dimension][0][lowByte_] ^ highBytesXor_[dimension];
       return scrambledReversedToUnitFloat(reversed, seeds_[dimension]);
@@ -153,7 +171,25 @@ class IndexSampler {
   }
 
  private:
+  // Padded dimensions (padded_sobol.h): each group's shuffled index computed once, on first use.
+  uint32_t paddedReversedBitsAt(int dimension) const {
+    const int group = dimension / kPaddedGroupSize;
+    if (group >= kCachedGroups)
+      return paddedReversedBits(pixelKey_, paddedGroupIndex(pixelKey_, sampleInPixel_, group), dimension);
+    if (!(groupsKnown_ >> group & 1u)) {
+      groupIndex_[group] = paddedGroupIndex(pixelKey_, sampleInPixel_, group);
+      groupsKnown_ |= 1u << group;
+    }
+    return paddedReversedBits(pixelKey_, groupIndex_[group], dimension);
+  }
+  static constexpr int kCachedGroups = 32;
+
   const Sampler& sampler_;
+  bool padded_ = false;
+  uint64_t pixelKey_ = 0;
+  uint32_t sampleInPixel_ = 0;
+  mutable uint32_t groupsKnown_ = 0;
+  mutable uint32_t groupIndex_[kCachedGroups];
   uint64_t index_;    // the point's index in the sequence
   FilmPosition film_;
   bool fast_;         // Sobol and index < 2^32

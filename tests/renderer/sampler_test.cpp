@@ -145,6 +145,58 @@ TEST(Samplers, IndexSamplerGivesSamplerGetBitForBit) {
   }
 }
 
+// Dimensions 2 and up of a render's samples are padded per pixel (padded_sobol.h): the N samples
+// of any pixel stratify every dimension (one in each 1/N of [0,1)) and the first two of every
+// group of four (one in each elementary interval of a (0,m,2)-net), at any resolution, seed and
+// depth. They had taken the film-wide points, whose per-pixel sets were rank-deficient at some
+// sizes: at 1920 x 1080 and 4 spp all 4 samples of every pixel fell in one quarter of
+// dimensions 7 and 10, and Sobol's MSE on a lit plane was up to 4.4x the random sampler's.
+// IndexSampler still gives Sampler::get bit for bit.
+TEST(Samplers, EveryPixelsSamplesAreStratifiedInEachPaddedDimensionAndPair) {
+  struct Case {
+    int width, height, spp;
+  };
+  for (const Case c : {Case{1920, 1080, 4}, Case{1024, 1024, 16}, Case{64, 64, 4}, Case{300, 200, 64}}) {
+    PixelGrid grid;
+    grid.width = grid.imageWidth = c.width;
+    grid.height = grid.imageHeight = c.height;
+    for (uint64_t seed : {2u, 3u, 7u}) {
+      const Sampler sampler(SamplerKind::Sobol, seed, grid);
+      const int m = std::countr_zero(unsigned(c.spp));
+      const uint64_t pixels = uint64_t(c.width) * uint64_t(c.height);
+      for (uint64_t pixel : {uint64_t(0), pixels / 3, pixels - 1}) {
+        // Sample s of the pixel at position `pixel` of the enumeration order is index s W H + pixel.
+        std::vector<std::vector<uint32_t>> bits(64);
+        for (int s = 0; s < c.spp; ++s) {
+          const uint64_t index = uint64_t(s) * pixels + pixel;
+          const IndexSampler samples(sampler, index);
+          for (int d = 2; d < 64; ++d) {
+            bits[size_t(d)].push_back(sampler.getBits(index, d));
+            ASSERT_EQ(std::bit_cast<uint32_t>(samples.get(d)), std::bit_cast<uint32_t>(sampler.get(index, d)));
+          }
+        }
+        for (int d = 2; d < 64; ++d) {
+          std::vector<int> strata(size_t(c.spp), 0);
+          for (uint32_t b : bits[size_t(d)]) ++strata[b >> (32 - m)];
+          for (int k = 0; k < c.spp; ++k)
+            ASSERT_EQ(strata[size_t(k)], 1) << c.width << "x" << c.height << " spp " << c.spp << " seed " << seed << " dimension " << d;
+          if (d % 4 != 0) continue;
+          for (int xBits = 0; xBits <= m; ++xBits) {  // elementary intervals 2^-xBits x 2^-(m - xBits)
+            std::vector<int> cells(size_t(c.spp), 0);
+            for (int s = 0; s < c.spp; ++s) {
+              const uint32_t x = xBits ? bits[size_t(d)][size_t(s)] >> (32 - xBits) : 0;
+              const uint32_t y = xBits < m ? bits[size_t(d + 1)][size_t(s)] >> (32 - (m - xBits)) : 0;
+              ++cells[size_t((x << (m - xBits)) | y)];
+            }
+            for (int k = 0; k < c.spp; ++k)
+              ASSERT_EQ(cells[size_t(k)], 1) << c.width << "x" << c.height << " dimensions " << d << "," << d + 1 << " split " << xBits;
+          }
+        }
+      }
+    }
+  }
+}
+
 TEST(Sobol, EveryDimensionIsStratifiedInOneDimension) {
   const int m = 10;
   const Sampler sampler(SamplerKind::Sobol, 5);
