@@ -342,12 +342,10 @@ class Interpreter {
   // programs that build no material pay nothing).
   uint32_t leafFlags(const Node* n) {
     if (!dependence_) dependence_ = std::make_unique<ir::WavelengthDependence>(program_);
+    // An unknown context (there should be none) answers "varies", as in compiled code.
     int context = dependence_->entryContext(entry_);
-    for (const Node* call : stack_) {
-      if (context < 0) return 0;
-      context = dependence_->calleeContext(context, call);
-    }
-    return context < 0 ? 0 : dependence_->flags(context, n);
+    for (const Node* call : stack_) context = dependence_->calleeContext(context, call);
+    return dependence_->flags(context, n);
   }
 
   const ir::Program& program_;

@@ -7,7 +7,8 @@
 //  - sampling is exact: draw q from the kernel around the ideal point, lift to the
 //    hemisphere; points no direction has (below the horizon) give no sample, so the pdf is
 //    the exact density of the returned samples.
-// GlossyReflection: norm = M, the share of the kernel inside the unit disk, by quadrature; plus
+// GlossyReflection: norm = M, the share of the kernel inside the unit disk (from the mass table,
+// glossy_mass_table.h; by quadrature below its exponents); plus
 // the reciprocal compensation lobe (Kulla & Conty 2017) f_ms = (1 - E(wo)) (1 - E(wi)) /
 // (pi (1 - E_avg)) with E tabulated (glossy_albedo.h), which returns the energy the max()
 // loses near grazing; sampled cosine-weighted with probability 1 - E(wo), the glossy lobe with
@@ -45,15 +46,26 @@ double tangentialLength(const Vec3& w) { return std::hypot(double(w.x), double(w
 // glossy() sphere (a GGX conductor's rays were 5x as fast).
 double massInUnitDisk(double n, double d) { return glossy::tabulatedMassInDisk(n, d, 1.0); }
 
+// max(M(wo), M(wi)) for the reflection lobe. Below the table's exponents (n < 7) M is the exact
+// quadrature, which falls as the kernel's centre moves out (Anderson's theorem: a symmetric
+// unimodal density, a symmetric convex set), so the max is M at the smaller distance: one
+// quadrature, remembered per thread for the vertex's repeated evaluations.
+double reflectionMass(double n, double dO, double dI) {
+  if (glossy::massTableCovers(n, 1.0)) return std::max(massInUnitDisk(n, dO), massInUnitDisk(n, dI));
+  const double d = std::min(dO, dI);
+  thread_local double lastN = -1.0, lastD = -1.0, lastM = 0.0;
+  if (n != lastN || d != lastD) lastM = glossy::kernelMassInDisk(n, d, 1.0), lastN = n, lastD = d;
+  return lastM;
+}
+
 // Reflection lobe in the disk plane: p(wo_t + wi_t) / max(M(wo), M(wi)), M over the unit disk.
 double reflectionLobe(double n, const Vec3& wo, const Vec3& wi) {
   const double qx = double(wo.x) + double(wi.x), qy = double(wo.y) + double(wi.y);
   const double p = kernelDensity(n, qx * qx + qy * qy);
   if (p == 0.0) return 0.0;
-  // Both masses, always: the table's interpolant need not fall exactly as the kernel's centre
-  // moves out (the exact M does, by Anderson's theorem), and the max of both keeps the lobe
-  // reciprocal.
-  const double m = std::max(massInUnitDisk(n, tangentialLength(wo)), massInUnitDisk(n, tangentialLength(wi)));
+  // Both masses from the table: its interpolant need not fall exactly as the kernel's centre
+  // moves out, and the max of both keeps the lobe reciprocal.
+  const double m = reflectionMass(n, tangentialLength(wo), tangentialLength(wi));
   return m > 0.0 ? p / m : 0.0;
 }
 

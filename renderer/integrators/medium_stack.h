@@ -33,6 +33,12 @@ class MediumStack {
     }
   }
 
+  bool contains(int material) const {
+    for (int i = 0; i < depth_; ++i)
+      if (materials_[i] == material) return true;
+    return false;
+  }
+
   // The innermost volume once `material` is left (-1: none), without leaving it.
   int innermostOutside(int material) const {
     bool skipped = false;

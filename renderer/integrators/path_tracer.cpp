@@ -55,19 +55,29 @@ Spectrum shadowTransmittance(const MaterialSystem& materials, const MediumStack&
                              const Vec3& ng, const Vec3& wo, const LightLiSample& ls, const Wavelengths& lambda) {
   int medium = segmentMedium;
   const bool entering = dot3(ls.wi, ng) < 0.0f;
-  if (entering != (dot3(wo, ng) < 0.0f) && materials.transmitsIntoAVolume(material))
-    medium = entering ? material : media.innermostOutside(material);
+  if (entering != (dot3(wo, ng) < 0.0f)) {  // through the surface
+    if (entering && (materials.transmitsIntoAVolume(material) || !materials.mayPassStraightRays(material)))
+      medium = material;  // into this object (a .tex solid absorbs nothing; thin walls keep wo's medium)
+    else if (!entering && media.contains(material))
+      medium = media.innermostOutside(material);  // out of it, into what surrounds it
+  }
   Spectrum sigmaA;
   if (medium < 0 || !materials.interiorAbsorption(medium, lambda, sigmaA)) return Spectrum(1.0f);
   if (!std::isfinite(ls.distance)) return Spectrum();  // to a light at infinity from inside a volume
   return exp(sigmaA * -ls.distance);
 }
 
-// Bsdf::immerse in the medium around `material` on the path's stack, when that medium has a
-// known IOR (glTF and pbr solids).
-void immerseInOutsideMedium(const MaterialSystem& materials, const MediumStack& media, int material, const Wavelengths& lambda,
-                            Bsdf& bsdf) {
-  const int outside = media.innermostOutside(material);
+// Bsdf::immerse in the medium on the other side of this surface from the object's interior,
+// when that medium has a known IOR (glTF and pbr solids). Hit from outside: the medium the path
+// is in (the same material nested in itself: a null interface). Hit from inside: what surrounds
+// the object once it is left; but an object hidden inside a volume entered later (overlaps: the
+// one entered last holds the overlap) is immersed in itself, a null interface.
+void immerseInOutsideMedium(const MaterialSystem& materials, const MediumStack& media, int material, bool backFace,
+                            const Wavelengths& lambda, Bsdf& bsdf) {
+  int outside;
+  if (!backFace) outside = media.innermost();
+  else if (media.innermost() == material || !media.contains(material)) outside = media.innermostOutside(material);
+  else outside = material;
   Spectrum eta;
   if (outside < 0 || !materials.interiorIor(outside, lambda, eta)) return;
   bool varies = false;
@@ -267,14 +277,14 @@ Spectrum PathTracer::radiance(const sampling::IndexSampler& samples, const Ray& 
     // Inside a volume, this surface's interfaces are with that volume's medium, not air (water
     // in a glass bends light by 1.33 / 1.5): the medium around it once it is left, or the
     // innermost one when it was never entered.
-    if (!media.empty()) immerseInOutsideMedium(materials, media, material, lambda, bsdf);
+    const bool backFace = dot3(ray.direction, hit.ng) > 0.0f;
+    if (!media.empty()) immerseInOutsideMedium(materials, media, material, backFace, lambda, bsdf);
     // The cosine is the BSDF's own shading normal's: a normal map replaces the frame, and with
     // the mesh's interpolated normal it had almost no effect on diffuse shading.
     const Vec3 shadingNormal = bsdf.frame().n;
     // Absorption along the segment that ended here (KHR_materials_volume): inside the innermost
     // volume the path entered, or, having entered none (a camera inside glass), inside the
     // object whose back the ray reached. Shadow rays leaving on wo's side travel in it too.
-    const bool backFace = dot3(ray.direction, hit.ng) > 0.0f;
     const int segmentMedium = !media.empty() ? media.innermost() : backFace ? material : -1;
     Spectrum sigmaA;
     const bool absorbing = segmentMedium >= 0 && materials.interiorAbsorption(segmentMedium, lambda, sigmaA);
@@ -332,7 +342,9 @@ Spectrum PathTracer::radiance(const sampling::IndexSampler& samples, const Ray& 
               if (pastWalls) Li *= throughWalls;
               // An unoccluded shadow ray crosses no surface: it travels in one medium, wo's
               // unless it leaves through this surface into another.
-              if (!media.empty() || absorbing) Li *= shadowTransmittance(materials, media, material, segmentMedium, hit.ng, wo, *ls, lambda);
+              // (Also from outside an absorbing volume, through its rough surface, to a light in it.)
+              if (!media.empty() || absorbing || materials.transmitsIntoAVolume(material))
+                Li *= shadowTransmittance(materials, media, material, segmentMedium, hit.ng, wo, *ls, lambda);
               if (!Li.isBlack()) {
                 const float pdfLight = choice->second * ls->pdfW;
                 const float weight =

@@ -269,7 +269,7 @@ bool MaterialSystem::transmitsIntoAVolume(int material) const {
   const Impl& im = *impl_;
   const int s = im.slot(material);
   const GltfMaterial* m = im.gltf(s);
-  return m && im.bindingOfMaterial[size_t(s)] < 0 && !m->thinWalled;
+  return m && im.bindingOfMaterial[size_t(s)] < 0 && !m->thinWalled && m->transmissionFactor > 0.0f;
 }
 
 bool MaterialSystem::interiorIor(int material, const Wavelengths& lambda, Spectrum& eta) const {

@@ -79,8 +79,8 @@ class MaterialSystem {
   // material means shadow rays need not look at what stops them.
   bool mayPassStraightRays(int material) const;
   bool anyMayPassStraightRays() const;
-  // Whether light this material transmits enters a volume (a glTF or scene-file pbr material
-  // that is not a thin wall), even one of index 1; .tex materials say so by refracting.
+  // Whether light this material transmits enters a volume (a transmissive glTF or scene-file pbr
+  // material that is not a thin wall), even one of index 1; .tex materials say so by refracting.
   bool transmitsIntoAVolume(int material) const;
   // The IOR inside a volume of this material at each wavelength (glTF and scene-file pbr solids:
   // ior, with KHR_materials_dispersion's formula as std.gltf.dispersive_ior has it; an invalid

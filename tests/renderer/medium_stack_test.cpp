@@ -15,6 +15,7 @@ TEST(MediumStack, NestedOverlappingAndTooDeepVolumes) {
   media.enter(1);  // a glass of water: glass, then the water inside it
   media.enter(2);
   EXPECT_EQ(media.innermost(), 2);
+  EXPECT_TRUE(media.contains(1) && media.contains(2) && !media.contains(3));
   EXPECT_EQ(media.innermostOutside(2), 1);  // leaving the water returns to the glass
   EXPECT_EQ(media.innermostOutside(1), 2);  // leaving the glass (overlap) keeps the water
   media.leave(1);                           // overlapping objects: left out of order
