@@ -178,7 +178,8 @@ SampleRecord PathTracer::record(uint64_t index) const {
   rec.weight = 1.0f;
   rec.technique = kTechniqueCamera;
   // The hero lane is picked by dimension 3, stratified jointly with the group's dimension 2.
-  const Vec2 uLens(samples.get(kLensDimension), samples.get(kLensDimension + 1));
+  // Only a lens reads its dimensions (each group of them costs its set-up: padded_sobol.h).
+  const Vec2 uLens = scene_.camera().usesLens() ? Vec2(samples.get(kLensDimension), samples.get(kLensDimension + 1)) : Vec2(0.5f);
   const float uHero = samples.get(kHeroLaneDimension);
   Wavelengths lambda =
       color::sampleWavelengthGroupStratified(samples.get(sampling::kWavelengthDimension), uHero, settings_.wavelengths);
@@ -343,7 +344,7 @@ Spectrum PathTracer::radiance(const sampling::IndexSampler& samples, const Ray& 
               // An unoccluded shadow ray crosses no surface: it travels in one medium, wo's
               // unless it leaves through this surface into another.
               // (Also from outside an absorbing volume, through its rough surface, to a light in it.)
-              if (!media.empty() || absorbing || materials.transmitsIntoAVolume(material))
+              if (!media.empty() || absorbing || (volumes_ && materials.transmitsIntoAVolume(material)))
                 Li *= shadowTransmittance(materials, media, material, segmentMedium, hit.ng, wo, *ls, lambda);
               if (!Li.isBlack()) {
                 const float pdfLight = choice->second * ls->pdfW;

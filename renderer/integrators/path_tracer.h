@@ -53,7 +53,11 @@ struct PathTracerSettings {
 class PathTracer {
  public:
   PathTracer(const RenderScene& scene, const sampling::Sampler& sampler, const PathTracerSettings& settings)
-      : scene_(scene), sampler_(sampler), settings_(settings), straightRaysPass_(scene.materials().anyMayPassStraightRays()) {}
+      : scene_(scene),
+        sampler_(sampler),
+        settings_(settings),
+        straightRaysPass_(scene.materials().anyMayPassStraightRays()),
+        volumes_(scene.materials().anyTransmitsIntoAVolume()) {}
 
   SampleRecord record(uint64_t index) const;
   void operator()(uint64_t index, runtime::Emitter<SampleRecord>& out) const { out.emit(record(index)); }
@@ -86,6 +90,8 @@ class PathTracer {
   // Some material may let straight rays through (thin walls): shadow rays toward delta lights
   // then look at what stops them.
   bool straightRaysPass_;
+  // Some material transmits into a volume (the medium stack can only fill then).
+  bool volumes_;
   CounterRegistry counters_;
 };
 

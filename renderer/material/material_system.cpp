@@ -285,6 +285,12 @@ bool MaterialSystem::interiorIor(int material, const Wavelengths& lambda, Spectr
   return true;
 }
 
+bool MaterialSystem::anyTransmitsIntoAVolume() const {
+  for (size_t m = 0; m < impl_->scene->materials.size(); ++m)
+    if (transmitsIntoAVolume(int(m))) return true;
+  return false;
+}
+
 int MaterialSystem::materialOfPrimitive(int primitive) const {
   return primitive >= 0 && size_t(primitive) < impl_->slotOfPrimitive.size() ? impl_->slotOfPrimitive[size_t(primitive)]
                                                                               : int(impl_->scene->materials.size());

@@ -82,6 +82,7 @@ class MaterialSystem {
   // Whether light this material transmits enters a volume (a transmissive glTF or scene-file pbr
   // material that is not a thin wall), even one of index 1; .tex materials say so by refracting.
   bool transmitsIntoAVolume(int material) const;
+  bool anyTransmitsIntoAVolume() const;
   // The IOR inside a volume of this material at each wavelength (glTF and scene-file pbr solids:
   // ior, with KHR_materials_dispersion's formula as std.gltf.dispersive_ior has it; an invalid
   // ior reads as 1.5 as there). False for others (.tex materials: their IOR is in their code).

@@ -1,8 +1,8 @@
 // Dimensions 2 and up of a render's samples with the Sobol sampler and a pixel grid: padded per
 // pixel (Burley 2020, "Practical Hash-based Owen Scrambling", section 4; pbrt-v4's padded and
 // Z-order Sobol samplers do the same). Dimensions come in groups of four, d = 4 g + j: sample s
-// of a pixel takes Sobol dimension j of the index s shuffled by a nested uniform scramble
-// seeded by (pixel, g) (a random aligned block of Sobol points, permuted), Owen-scrambled by
+// of a pixel takes Sobol dimension j of the index s XOR a random word of (pixel, g) (a random
+// aligned block of Sobol points, permuted), Owen-scrambled by
 // (pixel, d). So in every group the N samples of a pixel stratify each dimension in 1D and the
 // group's first two dimensions as a (0,m,2)-net (Sobol's first two dimensions; the other pairs
 // of dimensions 0-3 are (t,m,2)-nets with t > 0), independently randomised per pixel, at any
@@ -30,11 +30,14 @@ inline uint64_t paddedPixelKey(uint64_t seed, int imageX, int imageY) {
   return hashWords(seed, (uint64_t(uint32_t(imageY)) << 32) | uint32_t(imageX), 0x5041444445445058ull);
 }
 
-// Sample s's index into the Sobol sequence for dimension group g of the pixel. The pixel key
-// is already a 64-bit hash: one 32-bit mix per group and per dimension (below) suffices, and a
-// path reads about 40 dimensions (two 64-bit mixes each had cost 9 % of a Cornell render).
+// Sample s's index into the Sobol sequence for dimension group g of the pixel: s XOR a random
+// word of the (pixel, group), i.e. the pixel's samples take a random aligned block of Sobol
+// points (a (0,m,2)-net in dimensions 0 and 1) in an order permuted by the XOR, different for
+// every group, so that groups do not repeat each other's points. The pixel key is already a
+// 64-bit hash: one 32-bit mix per group and per dimension suffices (a path reads about 40
+// dimensions; two 64-bit mixes each had cost 9 % of a Cornell render).
 inline uint32_t paddedGroupIndex(uint64_t pixelKey, uint32_t sampleInPixel, int group) {
-  return owenScramble(sampleInPixel, lowbias32(uint32_t(pixelKey >> 32) ^ (uint32_t(group) * 0x9e3779b9u)));
+  return sampleInPixel ^ lowbias32(uint32_t(pixelKey >> 32) ^ (uint32_t(group) * 0x9e3779b9u));
 }
 
 inline uint32_t paddedScrambleSeed(uint64_t pixelKey, int dimension) {
@@ -43,8 +46,37 @@ inline uint32_t paddedScrambleSeed(uint64_t pixelKey, int dimension) {
 
 // Coordinate `dimension` of the group's shuffled index, Owen-scrambled, still bit-reversed.
 inline uint32_t paddedReversedBits(uint64_t pixelKey, uint32_t groupIndex, int dimension) {
-  const uint32_t reversed = sobolReversedBitsFast(groupIndex, dimension % kPaddedGroupSize);
+  // Sobol dimensions 0 and 1 in closed form (no table loads: the 2D pairs sit there), 2 and 3
+  // from the byte tables.
+  const int j = dimension % kPaddedGroupSize;
+  uint32_t reversed = groupIndex;
+  if (j == 1) {
+    uint32_t unused = 0;
+    sobolFirstTwoReversed(groupIndex, unused, reversed);
+  } else if (j > 1) {
+    reversed = sobolReversedBitsFast(groupIndex, j);
+  }
   return laineKarrasPermutation(reversed, paddedScrambleSeed(pixelKey, dimension));
+}
+
+// A group's four coordinates before their last step, computed together on the group's first
+// use (what IndexSampler keeps): the reversed Sobol bits and the four scramble seeds (hashed as
+// one vector), so that each coordinate then costs one Laine-Karras permutation.
+struct PaddedGroup {
+  uint32_t reversed[kPaddedGroupSize];
+  uint32_t seed[kPaddedGroupSize];
+};
+inline void paddedGroup(uint64_t pixelKey, uint32_t sampleInPixel, int group, PaddedGroup& out) {
+  const uint32_t index = paddedGroupIndex(pixelKey, sampleInPixel, group);
+  out.reversed[0] = index;
+  sobolFirstTwoReversed(index, out.reversed[0], out.reversed[1]);
+  out.reversed[2] = sobolReversedBitsFast(index, 2);
+  out.reversed[3] = sobolReversedBitsFast(index, 3);
+  typedef uint32_t U4 __attribute__((vector_size(16)));
+  const uint32_t d0 = uint32_t(group * kPaddedGroupSize);
+  const U4 dims = {d0, d0 + 1, d0 + 2, d0 + 3};
+  const U4 seeds = lowbias32(U4{} + uint32_t(pixelKey) ^ dims * 0x9e3779b9u);
+  for (int j = 0; j < kPaddedGroupSize; ++j) out.seed[j] = seeds[j];
 }
 
 // ... as 32 fixed-point bits.

@@ -152,8 +152,16 @@ class IndexSampler {
   // pixel grid).
   IndexSampler(const Sampler& sampler, uint64_t index);
   float get(int dimension) const {
-    if (padded_ && dimension >= kWavelengthDimension)  // reverseLow24: the float's 24 bits, as the fast path
-      return float(reverseLow24(paddedReversedBitsAt(dimension))) * 0x1p-24f;
+    if (padded_ && dimension >= kWavelengthDimension) {  // reverseLow24: the float's 24 bits, as the fast path
+      const int group = dimension / kPaddedGroupSize;
+      if (group < kCachedGroups) {
+        if (!(groupsKnown_ >> group & 1u)) fillGroup(group);
+        const int j = dimension % kPaddedGroupSize;
+        return float(reverseLow24(laineKarrasPermutation(groups_[group].reversed[j], groups_[group].seed[j]))) * 0x1p-24f;
+      }
+      return float(reverseLow24(paddedReversedBits(pixelKey_, paddedGroupIndex(pixelKey_, sampleInPixel_, group), dimension))) *
+             0x1p-24f;
+    }
     if (fast_ && unsigned(dimension) < unsigned(kSobolByteTableDimensions)) {
       const uint32_t reversed = kSobolReversedByteTables[dimension][0][lowByte_] ^ highBytesXor_[dimension];
       return scrambledReversedToUnitFloat(reversed, seeds_[dimension]);
@@ -172,15 +180,9 @@ class IndexSampler {
 
  private:
   // Padded dimensions (padded_sobol.h): each group's shuffled index computed once, on first use.
-  uint32_t paddedReversedBitsAt(int dimension) const {
-    const int group = dimension / kPaddedGroupSize;
-    if (group >= kCachedGroups)
-      return paddedReversedBits(pixelKey_, paddedGroupIndex(pixelKey_, sampleInPixel_, group), dimension);
-    if (!(groupsKnown_ >> group & 1u)) {
-      groupIndex_[group] = paddedGroupIndex(pixelKey_, sampleInPixel_, group);
-      groupsKnown_ |= 1u << group;
-    }
-    return paddedReversedBits(pixelKey_, groupIndex_[group], dimension);
+  [[gnu::noinline]] void fillGroup(int group) const {
+    paddedGroup(pixelKey_, sampleInPixel_, group, groups_[group]);
+    groupsKnown_ |= 1u << group;
   }
   static constexpr int kCachedGroups = 32;
 
@@ -189,7 +191,7 @@ class IndexSampler {
   uint64_t pixelKey_ = 0;
   uint32_t sampleInPixel_ = 0;
   mutable uint32_t groupsKnown_ = 0;
-  mutable uint32_t groupIndex_[kCachedGroups];
+  mutable PaddedGroup groups_[kCachedGroups];
   uint64_t index_;    // the point's index in the sequence
   FilmPosition film_;
   bool fast_;         // Sobol and index < 2^32
