@@ -10,7 +10,8 @@
 #    with the ratios tex / Mitsuba.
 # 3. Profile (PROFILE=1 and perf installed): tex's self time by component, from perf samples of
 #    one timing render: Embree, material code (the JIT's code, the closure and material layer,
-#    RGB upsampling), BSDFs, lights, the path loop, the rest.
+#    RGB upsampling), BSDFs, lights, the path loop, the sampler (samples and wavelength groups),
+#    the rest.
 # 2. Agreement: each renders SPP_CMP spp with a box pixel filter on both sides (FILTER_CMP;
 #    tex's Gaussian has radius 1.5, Mitsuba's radius 2, which alone fails the per-pixel Z-test
 #    at the image border and the light's edges); tex compare (RMSE, relative MSE, per-pixel
@@ -155,13 +156,14 @@ if [[ "${PROFILE:-1}" == 1 ]] && command -v perf >/dev/null; then
         else if ($0 ~ /Bsdf|[Ll]obe|fresnel|Fresnel|ggx|GGX|[Mm]icrofacet|[Gg]lossy|[Ss]heen|lambertian/) part = "BSDFs"
         else if ($0 ~ /Light|light/) part = "lights"
         else if ($0 ~ /PathTracer/) part = "path loop"
+        else if ($0 ~ /sampling::|Sampler|Sobol|sobol|[Ww]avelengthGroup/) part = "sampler"
         else if ($0 ~ /Film|film|xyz|Xyz|cieXyz|Sink/) part = "film"
         else if ($0 ~ /SceneGeometry|fillHit|shadingPoint/) part = "hit geometry"
         else part = "other"
         total[part] += share
       }
       END {
-        n = split("Embree,material code,BSDFs,lights,path loop,hit geometry,film,other", order, ",")
+        n = split("Embree,material code,BSDFs,lights,path loop,sampler,hit geometry,film,other", order, ",")
         for (i = 1; i <= n; ++i) printf "   %-14s %5.1f%%\n", order[i], total[order[i]]
       }'
   else
