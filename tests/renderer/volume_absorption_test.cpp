@@ -19,22 +19,29 @@
 namespace tex::render {
 namespace {
 
-TEST(VolumeAbsorption, StraightThroughAnIndexMatchedCubeIsCToTheDOverD) {
-  const float side = 2.0f, distance = 0.8f;
-  const Vec3 colour(0.2f, 0.5f, 0.9f);
+// An index-matched (ior 1) absorbing cube of the given side around the origin, material 0 of
+// the scene.
+SceneDescription absorbingCube(float side, float distance, const Vec3& colour) {
   SceneDescription scene;
   MeshPrimitive cube = makeBox(Vec3(0.0f), Vec3(side), false);
   cube.material = 0;
   scene.primitives.push_back(cube);
   scene.instances.push_back(MeshInstance{0, Mat4(1.0f), "cube"});
-  GltfMaterial m;
-  m.transmissionFactor = 1.0f;
-  m.metallicFactor = 0.0f;
-  m.ior = 1.0f;
-  m.thicknessFactor = 1.0f;
-  m.attenuationDistance = distance;
-  m.attenuationColor = colour;
-  scene.materials.push_back(m);
+  GltfMaterial volume;
+  volume.transmissionFactor = 1.0f;
+  volume.metallicFactor = 0.0f;
+  volume.ior = 1.0f;
+  volume.thicknessFactor = 1.0f;
+  volume.attenuationDistance = distance;
+  volume.attenuationColor = colour;
+  scene.materials.push_back(volume);
+  return scene;
+}
+
+TEST(VolumeAbsorption, StraightThroughAnIndexMatchedCubeIsCToTheDOverD) {
+  const float side = 2.0f, distance = 0.8f;
+  const Vec3 colour(0.2f, 0.5f, 0.9f);
+  SceneDescription scene = absorbingCube(side, distance, colour);
   scene.lights.push_back(test::constantSky(1.0f));
   // Nearly parallel rays from far away: every path length is the cube's side.
   scene.cameras.push_back(test::cameraLookingDownZ(Vec3(0.0f, 0.0f, 100.0f), 0.005f));
@@ -66,19 +73,7 @@ TEST(VolumeAbsorption, StraightThroughAnIndexMatchedCubeIsCToTheDOverD) {
 // (here the camera segment ends on the square's front: it was not absorbed at all, and shadow
 // rays never were).
 SceneDescription squareInsideAVolume(float distance, const Vec3& colour, bool emissiveSquare) {
-  SceneDescription scene;
-  MeshPrimitive cube = makeBox(Vec3(0.0f), Vec3(2.0f), false);
-  cube.material = 0;
-  scene.primitives.push_back(cube);
-  scene.instances.push_back(MeshInstance{0, Mat4(1.0f), "cube"});
-  GltfMaterial volume;
-  volume.transmissionFactor = 1.0f;
-  volume.metallicFactor = 0.0f;
-  volume.ior = 1.0f;
-  volume.thicknessFactor = 1.0f;
-  volume.attenuationDistance = distance;
-  volume.attenuationColor = colour;
-  scene.materials.push_back(volume);
+  SceneDescription scene = absorbingCube(2.0f, distance, colour);
   MeshPrimitive square = makeBox(Vec3(0.0f, 0.0f, -0.05f), Vec3(0.6f, 0.6f, 0.1f), false);  // top face at z = 0
   square.material = 1;
   scene.primitives.push_back(square);
