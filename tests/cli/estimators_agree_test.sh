@@ -15,9 +15,15 @@ for model in DispersionTest TransmissionTest; do
   [ -f "$glb" ] && scenes+=("$glb")
 done
 variants=("--spectral-mode terminate" "--spectral-mode single" "--sampler random" "--wavelengths 8" "--roulette-depth 1000")
-compared=0
+compared=0 expected=0
 for scene in "${scenes[@]}"; do
   name=$(basename "$scene")
+  # Scenes built on the shared glTF models need them beside the project (as the C++ tests do).
+  if grep -q '\.\./shared/gltf' "$scene" && [ ! -d "$src/../shared/gltf" ]; then
+    echo "skipped $name: ../shared/gltf is not beside the project"
+    continue
+  fi
+  expected=$((expected + ${#variants[@]}))
   render() {  # render OUT SEED [FLAGS...]
     local out=$1 seed=$2
     shift 2
@@ -37,5 +43,5 @@ for scene in "${scenes[@]}"; do
     seed=$((seed + 1))
   done
 done
-[ "$compared" -ge 50 ] || fail "only $compared comparisons ran"
+[ "$compared" = "$expected" ] && [ "$compared" -ge 30 ] || fail "only $compared of $expected comparisons ran"
 [ "$failures" = 0 ] && echo "ok: estimators agree ($compared comparisons)" || exit 1
