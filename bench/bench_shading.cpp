@@ -46,9 +46,9 @@ Bsdf coatedPlastic() {
   return bsdf;
 }
 
-void BM_CoatedBsdfEvalWithPdf(benchmark::State& state) {
-  const Bsdf bsdf = coatedPlastic();
-  const std::vector<Vec2> a = uniformPairs(1), b = uniformPairs(2);
+// evalWithPdf of `bsdf` at pairs of uniform hemisphere directions from two pools.
+void evalWithPdfLoop(benchmark::State& state, const Bsdf& bsdf, uint64_t seedA, uint64_t seedB) {
+  const std::vector<Vec2> a = uniformPairs(seedA), b = uniformPairs(seedB);
   size_t i = 0;
   for (auto _ : state) {
     const Vec3 wo = sampleUniformHemisphere(a[i % kPool]), wi = sampleUniformHemisphere(b[i % kPool]);
@@ -59,6 +59,8 @@ void BM_CoatedBsdfEvalWithPdf(benchmark::State& state) {
   }
   state.SetItemsProcessed(int64_t(state.iterations()));
 }
+
+void BM_CoatedBsdfEvalWithPdf(benchmark::State& state) { evalWithPdfLoop(state, coatedPlastic(), 1, 2); }
 BENCHMARK(BM_CoatedBsdfEvalWithPdf);
 
 void BM_CoatedBsdfSample(benchmark::State& state) {
@@ -83,16 +85,7 @@ void BM_GlossyReflectionEvalWithPdf(benchmark::State& state) {
   glossy.exponent = float(state.range(0));
   for (int i = 0; i < 4; ++i) glossy.weight.v[i] = 0.7f;
   bsdf.add(glossy);
-  const std::vector<Vec2> a = uniformPairs(5), b = uniformPairs(6);
-  size_t i = 0;
-  for (auto _ : state) {
-    const Vec3 wo = sampleUniformHemisphere(a[i % kPool]), wi = sampleUniformHemisphere(b[i % kPool]);
-    float pdfW = 0.0f;
-    benchmark::DoNotOptimize(bsdf.evalWithPdf(wo, wi, TransportMode::Radiance, pdfW));
-    benchmark::DoNotOptimize(pdfW);
-    ++i;
-  }
-  state.SetItemsProcessed(int64_t(state.iterations()));
+  evalWithPdfLoop(state, bsdf, 5, 6);
 }
 BENCHMARK(BM_GlossyReflectionEvalWithPdf)->Arg(10)->Arg(100);
 

@@ -276,8 +276,7 @@ Spectrum PathTracer::radiance(const sampling::IndexSampler& samples, const Ray& 
     Spectrum Le;
     if (!materials.shade(material, sp, lambda, bsdf, Le)) ++counters.materialFailures;
     // Inside a volume, this surface's interfaces are with that volume's medium, not air (water
-    // in a glass bends light by 1.33 / 1.5): the medium around it once it is left, or the
-    // innermost one when it was never entered.
+    // in a glass bends light by 1.33 / 1.5; immerseInOutsideMedium says which medium).
     const bool backFace = dot3(ray.direction, hit.ng) > 0.0f;
     if (!media.empty()) immerseInOutsideMedium(materials, media, material, backFace, lambda, bsdf);
     // The cosine is the BSDF's own shading normal's: a normal map replaces the frame, and with
@@ -334,7 +333,7 @@ Spectrum PathTracer::radiance(const sampling::IndexSampler& samples, const Ray& 
           if (!f.isBlack()) {
             ++counters.rays;
             const Ray shadow = shadowRay(hit.p, hit.ng, hit.pError, *ls);
-            bool visible = !geometry.occluded(shadow);
+            const bool visible = !geometry.occluded(shadow);
             Spectrum throughWalls;
             const bool pastWalls = !visible && ls->delta && straightRaysPass_ &&
                                    passStraightThrough(geometry, materials, shadow, lambda, throughWalls, counters);

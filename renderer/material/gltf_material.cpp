@@ -105,4 +105,9 @@ GltfInputs gltfInputs(const SceneDescription& scene, const GltfMaterial& m, cons
   return in;
 }
 
+float gltfDispersiveIor(float ior, float dispersion, float lambdaNm) {
+  if (!(dispersion > 0.0f)) return ior;
+  return std::max(ior + (ior - 1.0f) * dispersion / 20.0f * (523655.0f / (lambdaNm * lambdaNm) - 1.5168f), 1.0f);
+}
+
 }  // namespace tex::render

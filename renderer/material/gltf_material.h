@@ -28,6 +28,11 @@ GltfInputs gltfInputs(const SceneDescription& scene, const GltfMaterial& materia
 // without vertex colours (MaterialSystem checks the meshes).
 bool gltfReadsHit(const SceneDescription& scene, const GltfMaterial& material);
 
+// KHR_materials_dispersion's IOR at one wavelength, as std.gltf.dispersive_ior computes it in
+// the material (the renderer needs it outside the material too: a volume's medium, for the
+// surfaces inside it). Test ClosureLobes.GltfDispersiveIorIsStdGltfs keeps the two equal.
+float gltfDispersiveIor(float ior, float dispersion, float lambdaNm);
+
 // Replaces the Bsdf's shading frame by the normal map's (no-op without a normal texture).
 void applyGltfNormalMap(const SceneDescription& scene, const GltfMaterial& material, const ShadingPoint& point,
                         Bsdf& bsdf);

@@ -277,11 +277,7 @@ bool MaterialSystem::interiorIor(int material, const Wavelengths& lambda, Spectr
   const GltfMaterial& m = *impl_->gltf(impl_->slot(material));
   const float ior = m.ior >= 1.0f ? m.ior : 1.5f;
   eta = Spectrum(1.0f);
-  for (int i = 0; i < lambda.count; ++i) {
-    const float l = lambda.lambdaNm[i];
-    eta.v[i] = m.dispersion > 0.0f ? std::max(ior + (ior - 1.0f) * m.dispersion / 20.0f * (523655.0f / (l * l) - 1.5168f), 1.0f)
-                                   : ior;
-  }
+  for (int i = 0; i < lambda.count; ++i) eta.v[i] = gltfDispersiveIor(ior, m.dispersion, lambda.lambdaNm[i]);
   return true;
 }
 

@@ -8,7 +8,10 @@
 #include <fstream>
 
 
+#include "lang/interpreter.h"
+#include "lang/session.h"
 #include "renderer/material/closure_lobes.h"
+#include "renderer/material/gltf_material.h"
 #include "renderer/material/tex_binding.h"
 #include "renderer/sampling/pcg.h"
 #include "tests/renderer/scene_fixtures.h"
@@ -433,6 +436,24 @@ TEST(ClosureLobes, GltfTintedGlassReflectsAsItsInterfaceFromEitherSide) {
     EXPECT_NEAR(rTinted, rClear, 1e-6) << theta << " inside " << inside;  // the same samples
     EXPECT_NEAR(tTinted, 0.5 * tClear, 1e-6) << theta << " inside " << inside;
     EXPECT_GT(rClear, inside && theta > 45.0f ? 0.5 : 0.02) << theta;
+  }
+}
+
+// The renderer's copy of KHR_materials_dispersion's formula (for volumes' media) is std.gltf's.
+TEST(ClosureLobes, GltfDispersiveIorIsStdGltfs) {
+  lang::Session session;
+  lang::ModuleInfo* m = session.loadSource("dispersive.tex", "import std.gltf.{dispersive_ior}\n"
+                                                             "fn main(ior: Float, d: Float) -> Spectrum = dispersive_ior(ior, d)\n");
+  ASSERT_FALSE(session.diags().hasErrors());
+  const int fn = session.instantiate(m, "main", {lang::TypeTable::global().floating(), lang::TypeTable::global().floating()}, lang::Span{});
+  ASSERT_GE(fn, 0);
+  lang::WavelengthGroup group;
+  group.count = 8;
+  for (int i = 0; i < 8; ++i) group.lambdaNm[i] = 380.0f + 60.0f * float(i);
+  for (const auto& [ior, dispersion] : {std::pair{1.5f, 0.0f}, std::pair{1.5f, 1.2f}, std::pair{1.1f, 40.0f}, std::pair{2.4f, 0.3f}}) {
+    const lang::Value spectrum = lang::evaluate(session.program(), fn, {lang::Value::ofFloat(ior), lang::Value::ofFloat(dispersion)}, group);
+    for (int i = 0; i < 8; ++i)
+      EXPECT_FLOAT_EQ(gltfDispersiveIor(ior, dispersion, group.lambdaNm[i]), spectrum.f[i]) << ior << " " << dispersion << " " << group.lambdaNm[i];
   }
 }
 

@@ -14,6 +14,7 @@
 #include "renderer/integrators/render_scene.h"
 #include "renderer/scene/shapes.h"
 #include "renderer/spectra/rgb_spectrum.h"
+#include "tests/renderer/radiance_estimate.h"
 #include "tests/renderer/scene_fixtures.h"
 
 namespace tex::render {
@@ -35,59 +36,6 @@ SceneDescription absorbingCube(float side, float distance, const Vec3& colour) {
   volume.attenuationDistance = distance;
   volume.attenuationColor = colour;
   scene.materials.push_back(volume);
-  return scene;
-}
-
-TEST(VolumeAbsorption, StraightThroughAnIndexMatchedCubeIsCToTheDOverD) {
-  const float side = 2.0f, distance = 0.8f;
-  const Vec3 colour(0.2f, 0.5f, 0.9f);
-  SceneDescription scene = absorbingCube(side, distance, colour);
-  scene.lights.push_back(test::constantSky(1.0f));
-  // Nearly parallel rays from far away: every path length is the cube's side.
-  scene.cameras.push_back(test::cameraLookingDownZ(Vec3(0.0f, 0.0f, 100.0f), 0.005f));
-
-  RenderSceneOptions o;
-  std::string error;
-  std::unique_ptr<RenderScene> rs = RenderScene::build(scene, o, error);
-  ASSERT_TRUE(rs) << error;
-  const PathTracer tracer(*rs, sampling::Sampler(sampling::SamplerKind::Sobol, 1), PathTracerSettings{});
-  double worst = 0;
-  for (uint64_t i = 0; i < 2000; ++i) {
-    const SampleRecord r = tracer.record(i);
-    for (int j = 0; j < r.wavelengthCount; ++j) {
-      Wavelengths one;
-      one.count = 1;
-      one.lambdaNm[0] = r.lambdaNm[j];
-      const float expected = std::pow(rgbReflectanceSpectrum(colour, one).v[0], side / distance);
-      const float measured = r.values[j] * color::visibleWavelengthPdf(r.lambdaNm[j]);
-      worst = std::max(worst, double(std::fabs(measured - expected)));
-    }
-  }
-  EXPECT_LT(worst, 2e-4);
-}
-
-// An absorbing index-matched cube of side 2 around the origin (material 0) and, inside it, a
-// white Lambertian square at z = 0 (a .tex material) lit by a point light at (0, 0, 0.5), seen
-// from far above: camera rays cross 1 unit of the volume to the square and shadow rays 0.5.
-// Until round 16 only a segment that ended on the back of a volume was absorbed, by that volume
-// (here the camera segment ends on the square's front: it was not absorbed at all, and shadow
-// rays never were).
-SceneDescription squareInsideAVolume(float distance, const Vec3& colour, bool emissiveSquare) {
-  SceneDescription scene = absorbingCube(2.0f, distance, colour);
-  MeshPrimitive square = makeBox(Vec3(0.0f, 0.0f, -0.05f), Vec3(0.6f, 0.6f, 0.1f), false);  // top face at z = 0
-  square.material = 1;
-  scene.primitives.push_back(square);
-  scene.instances.push_back(MeshInstance{1, Mat4(1.0f), "square"});
-  GltfMaterial surface;
-  surface.name = "surface";
-  scene.materials.push_back(surface);
-  TexMaterialBinding b;
-  b.file = test::writeTexModule("inside_volume", "export fn white(h: Hit) -> Material = diffuse(spectrum(1.0))\n"
-                                                 "export fn glow(h: Hit) -> Material = emission(spectrum(1.0))\n");
-  b.entry = emissiveSquare ? "glow" : "white";
-  b.matchMaterial = "surface";
-  scene.texMaterials.push_back(b);
-  scene.cameras.push_back(test::cameraLookingDownZ(Vec3(0.0f, 0.0f, 100.0f), 0.0005f));
   return scene;
 }
 
@@ -115,6 +63,44 @@ double worstDifference(const SceneDescription& scene, int maxDepth, const std::f
     }
   }
   return worst;
+}
+
+TEST(VolumeAbsorption, StraightThroughAnIndexMatchedCubeIsCToTheDOverD) {
+  const float side = 2.0f, distance = 0.8f;
+  const Vec3 colour(0.2f, 0.5f, 0.9f);
+  SceneDescription scene = absorbingCube(side, distance, colour);
+  scene.lights.push_back(test::constantSky(1.0f));
+  // Nearly parallel rays from far away: every path length is the cube's side.
+  scene.cameras.push_back(test::cameraLookingDownZ(Vec3(0.0f, 0.0f, 100.0f), 0.005f));
+  const double worst = worstDifference(scene, PathTracerSettings().maxDepth, [&](const Wavelengths& one) {
+    return std::pow(rgbReflectanceSpectrum(colour, one).v[0], side / distance);
+  });
+  EXPECT_LT(worst, 2e-4);
+}
+
+// An absorbing index-matched cube of side 2 around the origin (material 0) and, inside it, a
+// white Lambertian square at z = 0 (a .tex material) lit by a point light at (0, 0, 0.5), seen
+// from far above: camera rays cross 1 unit of the volume to the square and shadow rays 0.5.
+// Until round 16 only a segment that ended on the back of a volume was absorbed, by that volume
+// (here the camera segment ends on the square's front: it was not absorbed at all, and shadow
+// rays never were).
+SceneDescription squareInsideAVolume(float distance, const Vec3& colour, bool emissiveSquare) {
+  SceneDescription scene = absorbingCube(2.0f, distance, colour);
+  MeshPrimitive square = makeBox(Vec3(0.0f, 0.0f, -0.05f), Vec3(0.6f, 0.6f, 0.1f), false);  // top face at z = 0
+  square.material = 1;
+  scene.primitives.push_back(square);
+  scene.instances.push_back(MeshInstance{1, Mat4(1.0f), "square"});
+  GltfMaterial surface;
+  surface.name = "surface";
+  scene.materials.push_back(surface);
+  TexMaterialBinding b;
+  b.file = test::writeTexModule("inside_volume", "export fn white(h: Hit) -> Material = diffuse(spectrum(1.0))\n"
+                                                 "export fn glow(h: Hit) -> Material = emission(spectrum(1.0))\n");
+  b.entry = emissiveSquare ? "glow" : "white";
+  b.matchMaterial = "surface";
+  scene.texMaterials.push_back(b);
+  scene.cameras.push_back(test::cameraLookingDownZ(Vec3(0.0f, 0.0f, 100.0f), 0.0005f));
+  return scene;
 }
 
 TEST(VolumeAbsorption, AnEmitterInsideAVolumeIsSeenThroughIt) {
@@ -191,25 +177,7 @@ double headOnThroughBoxes(const std::vector<std::tuple<float, float, int>>& boxe
                                     {"lamp"});
   }
   scene.cameras.push_back(test::cameraLookingDownZ(Vec3(0.0f, 0.0f, 100.0f), pointLightInside ? 0.02f : 0.0005f));
-  RenderSceneOptions o;
-  o.useCache = false;
-  std::string error;
-  std::unique_ptr<RenderScene> rs = RenderScene::build(scene, o, error);
-  EXPECT_TRUE(rs) << error;
-  if (!rs) return -1;
-  PathTracerSettings settings;
-  settings.maxDepth = 100;
-  settings.rouletteDepth = 100;
-  const PathTracer tracer(*rs, sampling::Sampler(sampling::SamplerKind::Sobol, 1), settings);
-  constexpr int kSamples = 1 << 14;
-  double sum = 0;
-  for (uint64_t i = 0; i < kSamples; ++i) {
-    const SampleRecord r = tracer.record(i);
-    double v = 0;
-    for (int j = 0; j < r.wavelengthCount; ++j) v += r.values[j] * color::visibleWavelengthPdf(r.lambdaNm[j]);
-    sum += v / r.wavelengthCount;
-  }
-  return sum / kSamples;
+  return test::estimateRadiance(scene, 100, 4, 1 << 14, sampling::SamplerKind::Sobol, 100).mean;
 }
 
 // Incoherent transmittance of a stack of interfaces head-on (reflections between them summed).
