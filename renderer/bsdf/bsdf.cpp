@@ -264,6 +264,9 @@ std::optional<BsdfSample> Bsdf::sample(const Vec3& woWorld, float uc, Vec2 u2, T
     s->pdfW *= weights[chosen] / total;  // the Dirac lobe's own f; the others have no mass on its direction
     // A Dirac base lobe under a coat (a mirror, glass) takes the directional transmittance.
     if (!coatChosen && hasCoat_ && storage_.lobes[chosen].underCoat) s->f *= coatTransmittanceDirectional(coat_, wo, wi);
+    // The lobes straightThrough sums (it leaves out walls under a coat).
+    s->straight = s->transmission && !coatChosen && storage_.lobes[chosen].kind == LobeKind::ThinDielectric &&
+                  !(hasCoat_ && storage_.lobes[chosen].underCoat);
   } else {
     // The direction could have come from any non-specular component: the mixture's f and pdf.
     // For a lone Lambertian lobe, localEval and localPdf would re-evaluate the lobe that made

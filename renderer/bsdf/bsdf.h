@@ -74,6 +74,10 @@ struct BsdfSample {
                             // or glossy lobe with etaVaries), f carries every lane's own value
                             // and Bsdf::pdfForLane gives each lane's density
   float etaScale = 1;       // relative IOR crossed (for Russian roulette bookkeeping): 1 if reflected
+  // Through a smooth thin wall, not under a coat: the ray goes on unchanged (wi = -wo) and the
+  // event's expected weight is Bsdf::straightThrough, what shadow rays take when they pass such
+  // a wall (the path tracer MISes the two ways to such a path).
+  bool straight = false;
 };
 
 // Single-lobe routines in the local frame (z = normal). u2 picks the direction, uc picks a

@@ -67,6 +67,19 @@ Spectrum shadowTransmittance(const MaterialSystem& materials, const MediumStack&
   return exp(sigmaA * -ls.distance);
 }
 
+// The media a shadow ray from this surface travels through (shadowTransmittance's rule): the
+// path's, plus this object's volume when the ray enters it, less it when the ray leaves it.
+MediumStack mediaAlongShadowRay(const MaterialSystem& materials, const MediumStack& media, int material, const Vec3& ng,
+                                const Vec3& wo, const Vec3& wi) {
+  MediumStack along = media;
+  const bool entering = dot3(wi, ng) < 0.0f;
+  if (entering != (dot3(wo, ng) < 0.0f)) {
+    if (entering && (materials.transmitsIntoAVolume(material) || !materials.mayPassStraightRays(material))) along.enter(material);
+    else if (!entering) along.leave(material);
+  }
+  return along;
+}
+
 // Bsdf::immerse in the medium on the other side of this surface from the object's interior,
 // when that medium has a known IOR (glTF and pbr solids). Hit from outside: the medium the path
 // is in (the same material nested in itself: a null interface). Hit from inside: what surrounds
@@ -118,27 +131,35 @@ Ray shadowRay(const Vec3& p, const Vec3& ng, const Vec3& pError, const LightLiSa
   return r;
 }
 
-// A shadow ray toward a point, spot or directional light that something stops: when every
-// surface in the way is one a straight ray may pass (smooth thin walls: windows), the light
-// arrives times what they let through (Bsdf::straightThrough). No BSDF sample can reach such a
-// light, so without this a sun behind a window lit nothing. False when something else stops
-// the ray, or after kMaxWalls walls.
-bool passStraightThrough(const SceneGeometry& geometry, const MaterialSystem& materials, Ray ray, const Wavelengths& lambda,
-                         Spectrum& through, PathCounters& counters) {
-  constexpr int kMaxWalls = 16;
+// At most this many smooth thin walls in a row are passed as one straight segment, by shadow
+// rays and (for MIS) by BSDF-sampled paths alike.
+constexpr int kMaxStraightWalls = 16;
+
+// A shadow ray that something stops: when every surface in the way is one a straight ray may
+// pass (smooth thin walls: windows), the light arrives times what they let through
+// (Bsdf::straightThrough, each wall immersed in the medium around it as the path's own hit
+// would be). No BSDF sample can reach a point or directional light, so without this a sun
+// behind a window lit nothing; area and environment lights behind a window were found by BSDF
+// sampling alone (the path tracer MISes the two: a BSDF sample through a wall keeps the vertex
+// before it as the one whose light sampling could have made the path). False when something
+// else stops the ray, or after maxWalls walls.
+bool passStraightThrough(const SceneGeometry& geometry, const MaterialSystem& materials, const MediumStack& media, Ray ray,
+                         const Wavelengths& lambda, int maxWalls, Spectrum& through, PathCounters& counters) {
   const bool toPoint = std::isfinite(ray.tMax);     // else toward a light at infinity
   const Vec3 target = ray.origin + ray.direction;   // toward a point: the segment's end, t = 1
   const Vec3 unit = normalize(ray.direction);
   through = Spectrum(1.0f);
   SurfaceHit wall;
-  for (int k = 0; k < kMaxWalls; ++k) {
+  for (int k = 0;; ++k) {
     ++counters.rays;
     if (!geometry.intersect(ray, wall)) return true;
+    if (k >= maxWalls) return false;
     const int material = materials.materialOfPrimitive(wall.primitive);
     if (!materials.mayPassStraightRays(material)) return false;
     Bsdf bsdf(Frame::fromNormalTangent(wall.ns, wall.dpdu), wall.ng);
     Spectrum emission;
     if (!materials.shade(material, RenderScene::shadingPoint(wall), lambda, bsdf, emission)) return false;
+    if (!media.empty()) immerseInOutsideMedium(materials, media, material, dot3(unit, wall.ng) > 0.0f, lambda, bsdf);
     through *= bsdf.straightThrough(unit);
     if (through.isBlack()) return false;
     ray.origin = offsetRayOrigin(wall.p, wall.ng, unit, wall.pError);
@@ -147,7 +168,6 @@ bool passStraightThrough(const SceneGeometry& geometry, const MaterialSystem& ma
       if (!(dot3(ray.direction, unit) > 0.0f)) return true;  // the wall was at the light
     }
   }
-  return false;
 }
 
 }  // namespace
@@ -243,6 +263,7 @@ Spectrum PathTracer::radiance(const sampling::IndexSampler& samples, const Ray& 
   // survivors carried eta^2 (3.5x the noise in a diamond, 5.5x at IOR 3).
   float etaSquared = 1.0f;
   MediumStack media;
+  int wallsInARow = 0;  // smooth thin walls passed straight since the last vertex that scattered
 
   // Declared once per path: its default initialisation (a 96-byte rep stos) at every bounce
   // showed in the profile, and intersect() overwrites every field it reports on a hit.
@@ -334,9 +355,15 @@ Spectrum PathTracer::radiance(const sampling::IndexSampler& samples, const Ray& 
             ++counters.rays;
             const Ray shadow = shadowRay(hit.p, hit.ng, hit.pError, *ls);
             const bool visible = !geometry.occluded(shadow);
+            // Walls passed count as bounces: at most as many as a BSDF-sampled path from here
+            // could pass and still reach the light (MIS needs both techniques to reach the
+            // same paths).
+            const int wallBudget = std::min(kMaxStraightWalls, settings_.maxDepth - depth - 1);
             Spectrum throughWalls;
-            const bool pastWalls = !visible && ls->delta && straightRaysPass_ &&
-                                   passStraightThrough(geometry, materials, shadow, lambda, throughWalls, counters);
+            const bool pastWalls =
+                !visible && straightRaysPass_ && wallBudget > 0 &&
+                passStraightThrough(geometry, materials, mediaAlongShadowRay(materials, media, material, hit.ng, wo, ls->wi), shadow,
+                                    lambda, wallBudget, throughWalls, counters);
             if (visible || pastWalls) {
               Spectrum Li = ls->radianceDeferred ? light.deferredRadiance(*ls, lambda) : ls->L;
               if (pastWalls) Li *= throughWalls;
@@ -370,7 +397,14 @@ Spectrum PathTracer::radiance(const sampling::IndexSampler& samples, const Ray& 
         else media.leave(material);
       }
     }
-    prevPdfW = bs->pdfW;
+    // Straight through a smooth thin wall: the vertex before the wall stays the one whose light
+    // sampling (through the wall, passStraightThrough) could have made this path, so an emitter
+    // found next is weighted against it; the wall itself is no vertex for MIS. At most
+    // kMaxStraightWalls in a row, as shadow rays.
+    const bool throughWall =
+        bs->straight && straightRaysPass_ && wallsInARow < kMaxStraightWalls && materials.mayPassStraightRays(material);
+    wallsInARow = throughWall ? wallsInARow + 1 : 0;
+    if (!throughWall) prevPdfW = bs->pdfW;
     if (bs->dispersive && !terminated && n > 1) {
       if (settings_.spectralMode == SpectralMode::Mis && !bs->specular) {
         float sum = 0.0f;
@@ -391,8 +425,10 @@ Spectrum PathTracer::radiance(const sampling::IndexSampler& samples, const Ray& 
         spectralWeight = 1.0f;
       }
     }
-    specularBounce = bs->specular;
-    prevP = hit.p;
+    if (!throughWall) {
+      specularBounce = bs->specular;
+      prevP = hit.p;
+    }
     spawnRayInto(ray, hit.p, hit.ng, hit.pError, bs->wi);
 
     if (beta.hasNaNOrInf()) {

@@ -339,9 +339,12 @@ TEST(PathTracer, PointAndDirectionalLightsShineThroughSmoothThinWalls) {
     light.emission.value = 1.0f;
     light.intensity = sun ? float(M_PI) : 4.0f * float(M_PI);  // irradiance pi on the floor either way (r = 2)
     scene.lights.push_back(light);
-    // Depth 2: the wall, then the floor's direct light. The camera sees the floor through the
-    // wall (a fraction wallT of its paths, or R' reflected to nothing): 0.5 wallT x wallT.
-    const Estimate e = estimateRadiance(scene, 2, 4, 1 << 14);
+    // Depth 3: the wall, the floor, and the wall its light passes (walls count as bounces for
+    // shadow rays as for BSDF samples). The camera sees the floor through the wall (a fraction
+    // wallT of its paths, or R' reflected to nothing): 0.5 wallT x wallT. At depth 2 the light
+    // would take a third bounce: black.
+    const Estimate e = estimateRadiance(scene, 3, 4, 1 << 14);
+    EXPECT_EQ(estimateRadiance(scene, 2, 4, 1 << 10).mean, 0.0);
     EXPECT_NEAR(e.mean, 0.5 * wallT * wallT, 4 * e.standardError + 0.01 * 0.5 * wallT * wallT) << (sun ? "sun" : "point");
   }
 }

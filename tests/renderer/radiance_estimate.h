@@ -21,22 +21,18 @@ struct Estimate {
   uint64_t rays = 0;
 };
 
-// Mean over samples and wavelengths of the radiance estimate L(lambda) (= record value x pdf).
-inline Estimate estimateRadiance(const SceneDescription& scene, int maxDepth, int wavelengths, uint64_t samples,
-                          sampling::SamplerKind sampler = sampling::SamplerKind::Sobol,
-                          int rouletteDepth = PathTracerSettings().rouletteDepth) {
+// Mean over samples and wavelengths of the radiance estimate L(lambda) (= record value x pdf),
+// with the tracer's settings as given (their wavelength count builds the scene).
+inline Estimate estimateRadiance(const SceneDescription& scene, const PathTracerSettings& settings, uint64_t samples,
+                                 sampling::SamplerKind sampler = sampling::SamplerKind::Sobol) {
   RenderSceneOptions o;
   o.width = o.height = 64;
-  o.wavelengths = wavelengths;
+  o.wavelengths = settings.wavelengths;
   o.useCache = false;
   std::string error;
   std::unique_ptr<RenderScene> rs = RenderScene::build(scene, o, error);
   EXPECT_TRUE(rs) << error;
   if (!rs) return {};
-  PathTracerSettings settings;
-  settings.maxDepth = maxDepth;
-  settings.rouletteDepth = rouletteDepth;
-  settings.wavelengths = wavelengths;
   const PathTracer tracer(*rs, sampling::Sampler(sampler, 3), settings);
   double sum = 0, sum2 = 0;
   for (uint64_t i = 0; i < samples; ++i) {
@@ -53,6 +49,16 @@ inline Estimate estimateRadiance(const SceneDescription& scene, int maxDepth, in
   e.nonFinite = tracer.counters().nonFiniteSamples;
   e.rays = tracer.counters().rays;
   return e;
+}
+
+inline Estimate estimateRadiance(const SceneDescription& scene, int maxDepth, int wavelengths, uint64_t samples,
+                                 sampling::SamplerKind sampler = sampling::SamplerKind::Sobol,
+                                 int rouletteDepth = PathTracerSettings().rouletteDepth) {
+  PathTracerSettings settings;
+  settings.maxDepth = maxDepth;
+  settings.rouletteDepth = rouletteDepth;
+  settings.wavelengths = wavelengths;
+  return estimateRadiance(scene, settings, samples, sampler);
 }
 
 }  // namespace tex::render::test
