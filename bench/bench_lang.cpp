@@ -2,12 +2,15 @@
 //  - `tex check` work on a generated 10,000-line module (target: under 200 ms);
 //  - one REPL line end to end, parse + check + specialise + evaluate (target: under 50 ms),
 //    with and without a stdlib import in the session;
-//  - interpreter throughput on the marble texture, per pixel.
+//  - interpreter throughput on the marble texture, per pixel;
+//  - image() lookups (bilinear and trilinear) from a PNG's stored 8-bit codes against the same
+//    image held as floats (what lookups read before round 17).
 // Run: build/bin/bench_lang   (the timed CLI runs are in bench/cli_lang.sh)
 #include <benchmark/benchmark.h>
 
 #include <string>
 
+#include "lang/image_table.h"
 #include "lang/interpreter.h"
 #include "lang/session.h"
 
@@ -93,5 +96,29 @@ void BM_InterpretMarblePixel(benchmark::State& state) {
 BENCHMARK(BM_InterpretMarblePixel)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
+
+// arg 0: codes (the table's PNG), 1: floats; arg 1: the filter (1 bilinear, 2 trilinear).
+void BM_ImageLookup(benchmark::State& state) {
+  const ImageLoadResult r = ImageTable::global().load(std::string(TEX_SOURCE_DIR) + "/tests/conformance/images/checker.png", false);
+  if (r.handle < 0) return state.SkipWithError(r.message.c_str());
+  const LoadedImage& stored = *ImageTable::global().get(r.handle);
+  LoadedImage floats;
+  ImageLevel base;
+  base.width = stored.levels[0].width;
+  base.height = stored.levels[0].height;
+  base.rgba = stored.levels[0].decoded();
+  floats.levels = buildMipPyramid(base);
+  const LoadedImage& image = state.range(0) == 0 ? stored : floats;
+  const ImageFilter filter = ImageFilter(state.range(1));
+  float u = 0.1f, v = 0.7f, sum = 0.0f, out[4];
+  for (auto _ : state) {
+    u = u + 0.618034f - float(int(u + 0.618034f));
+    v = v + 0.414214f - float(int(v + 0.414214f));
+    lookupImage(image, filter, 0, u, v, 0.05f, 0.0f, 0.0f, 0.05f, out);
+    sum += out[0] + out[3];
+  }
+  benchmark::DoNotOptimize(sum);
+}
+BENCHMARK(BM_ImageLookup)->ArgsProduct({{0, 1}, {1, 2}})->ArgNames({"floats", "filter"});
 
 BENCHMARK_MAIN();

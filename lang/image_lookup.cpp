@@ -23,14 +23,13 @@ int64_t wrapIndex(int64_t i, int64_t n, int32_t wrap) {
 // sub-texel precision anyway).
 int64_t floorIndex(float x) { return int64_t(std::clamp(std::floor(double(x)), -1099511627776.0, 1099511627776.0)); }
 
-const float* texel(const ImageLevel& l, int64_t x, int64_t y, int32_t wrap) {
+void texel(const ImageLevel& l, int64_t x, int64_t y, int32_t wrap, float out[4]) {
   int64_t wx = wrapIndex(x, l.width, wrap), wy = wrapIndex(y, l.height, wrap);
-  return &l.rgba[(size_t(wy) * size_t(l.width) + size_t(wx)) * 4];
+  l.texel(size_t(wy) * size_t(l.width) + size_t(wx), out);
 }
 
 void nearest(const ImageLevel& l, int32_t wrap, float u, float v, float out[4]) {
-  const float* t = texel(l, floorIndex(u * float(l.width)), floorIndex(v * float(l.height)), wrap);
-  std::copy(t, t + 4, out);
+  texel(l, floorIndex(u * float(l.width)), floorIndex(v * float(l.height)), wrap, out);
 }
 
 // Texel centres sit at half-integer positions: (i + 0.5) / width.
@@ -39,10 +38,11 @@ void bilinear(const ImageLevel& l, int32_t wrap, float u, float v, float out[4])
   float fx = std::floor(x), fy = std::floor(y);
   float tx = x - fx, ty = y - fy;
   int64_t ix = floorIndex(x), iy = floorIndex(y);
-  const float* a = texel(l, ix, iy, wrap);
-  const float* b = texel(l, ix + 1, iy, wrap);
-  const float* c = texel(l, ix, iy + 1, wrap);
-  const float* d = texel(l, ix + 1, iy + 1, wrap);
+  float a[4], b[4], c[4], d[4];
+  texel(l, ix, iy, wrap, a);
+  texel(l, ix + 1, iy, wrap, b);
+  texel(l, ix, iy + 1, wrap, c);
+  texel(l, ix + 1, iy + 1, wrap, d);
   for (int k = 0; k < 4; ++k) {
     float top = a[k] + (b[k] - a[k]) * tx;
     float bottom = c[k] + (d[k] - c[k]) * tx;

@@ -111,18 +111,19 @@ bool hasPrefix(const std::string& head, const char* magic, size_t n) {
   return head.size() >= n && std::memcmp(head.data(), magic, n) == 0;
 }
 
-// srgbToLinear of every 8- or 16-bit code (code x 1/255 or 1/65535, as decodePng scales them):
-// the same floats as calling it per texel, without a pow per channel (40 % of loading an 8k
-// PNG had been powf).
-const std::vector<float>& srgbDecodeTable(bool sixteen) {
-  const auto build = [](size_t codes) {
+// The value of every 8- or 16-bit code: srgbToLinear(code x 1/255 or 1/65535), or the scaled
+// code itself (data images and alpha). Tables, not a pow per channel (40 % of loading an 8k PNG
+// had been powf), and the texels keep their codes (ImageLevel::decode).
+const std::vector<float>& codeTable(bool sixteen, bool srgb) {
+  const auto build = [](size_t codes, bool srgb) {
     std::vector<float> table(codes);
-    const float scale = 1.0f / float(codes - 1);
-    for (size_t i = 0; i < codes; ++i) table[i] = srgbToLinear(float(i) * scale);
+    const float scale = codes == 256 ? 1.0f / 255.0f : 1.0f / 65535.0f;
+    for (size_t i = 0; i < codes; ++i) table[i] = srgb ? srgbToLinear(float(i) * scale) : float(i) * scale;
     return table;
   };
-  static const std::vector<float> eight = build(256), sixteenBit = build(65536);
-  return sixteen ? sixteenBit : eight;
+  static const std::vector<float> tables[2][2] = {{build(256, false), build(256, true)},
+                                                  {build(65536, false), build(65536, true)}};
+  return tables[sixteen][srgb];
 }
 
 bool decodePng(const std::string& path, bool data, ImageLevel& out, std::string& message) {
@@ -137,14 +138,10 @@ bool decodePng(const std::string& path, bool data, ImageLevel& out, std::string&
   }
   out.width = w;
   out.height = h;
-  out.rgba.resize(size_t(w) * size_t(h) * 4);
-  float scale = sixteen ? 1.0f / 65535.0f : 1.0f / 255.0f;
-  const std::vector<float>& decoded = srgbDecodeTable(sixteen);
-  for (size_t i = 0; i < out.rgba.size(); ++i) {
-    const unsigned code = sixteen ? static_cast<uint16_t*>(pixels)[i] : static_cast<uint8_t*>(pixels)[i];
-    bool alpha = i % 4 == 3;
-    out.rgba[i] = data || alpha ? float(code) * scale : decoded[code];  // alpha is linear coverage in PNG
-  }
+  const size_t count = size_t(w) * size_t(h) * 4;
+  if (sixteen) out.codes16.assign(static_cast<uint16_t*>(pixels), static_cast<uint16_t*>(pixels) + count);
+  else out.codes8.assign(static_cast<uint8_t*>(pixels), static_cast<uint8_t*>(pixels) + count);
+  for (int c = 0; c < 4; ++c) out.decode[c] = codeTable(sixteen, !data && c < 3).data();  // alpha is linear coverage in PNG
   stbi_image_free(pixels);
   return true;
 }
@@ -256,6 +253,12 @@ bool decodeImageFile(const std::string& path, bool data, ImageLevel& out, std::s
   return ok;
 }
 
+std::vector<float> ImageLevel::decoded() const {
+  std::vector<float> out(size_t(width) * size_t(height) * 4);
+  for (size_t i = 0; i < out.size() / 4; ++i) texel(i, &out[i * 4]);
+  return out;
+}
+
 // Each texel of the next level averages the block of texels it covers: [floor(i*w/w'),
 // floor((i+1)*w/w')) in each axis, so odd sizes still average every texel exactly once.
 std::vector<ImageLevel> buildMipPyramid(ImageLevel base) {
@@ -273,8 +276,11 @@ std::vector<ImageLevel> buildMipPyramid(ImageLevel base) {
         int32_t x0 = int32_t(int64_t(x) * src.width / dst.width), x1 = int32_t(int64_t(x + 1) * src.width / dst.width);
         double sum[4] = {0, 0, 0, 0};
         for (int32_t sy = y0; sy < y1; ++sy)
-          for (int32_t sx = x0; sx < x1; ++sx)
-            for (int c = 0; c < 4; ++c) sum[c] += src.rgba[(size_t(sy) * size_t(src.width) + size_t(sx)) * 4 + size_t(c)];
+          for (int32_t sx = x0; sx < x1; ++sx) {
+            float t[4];
+            src.texel(size_t(sy) * size_t(src.width) + size_t(sx), t);
+            for (int c = 0; c < 4; ++c) sum[c] += t[c];
+          }
         double count = double(y1 - y0) * double(x1 - x0);
         for (int c = 0; c < 4; ++c) dst.rgba[(size_t(y) * size_t(dst.width) + size_t(x)) * 4 + size_t(c)] = float(sum[c] / count);
       }

@@ -18,10 +18,33 @@ namespace tex::lang {
 enum class ImageWrap : int32_t { Repeat = 0, Clamp = 1, Mirror = 2 };
 enum class ImageFilter : int32_t { Nearest = 0, Bilinear = 1, Trilinear = 2 };
 
-// One mip level: linear RGBA floats, row-major, top row first (v = 0 is the top edge).
+// One mip level, row-major, top row first (v = 0 is the top edge): linear RGBA floats, or (a
+// PNG's level 0) the file's 8- or 16-bit RGBA codes as stored, decoded per lookup through one
+// table per channel. The tables hold exactly the floats decoding at load gave, so lookups are
+// the same bits, at a quarter (8-bit) or half (16-bit) of the memory: an 8192^2 PNG's level 0
+// takes 256 MB, where floats took 1 GB (its float mips take another 341 MB).
 struct ImageLevel {
   int32_t width = 0, height = 0;
-  std::vector<float> rgba;
+  std::vector<float> rgba;        // float levels (OpenEXR files, mips)
+  std::vector<uint8_t> codes8;    // 8-bit PNG codes, RGBA
+  std::vector<uint16_t> codes16;  // 16-bit PNG codes, RGBA
+  const float* decode[4] = {};    // encoded levels: code -> linear value, per channel (static tables)
+
+  // Texel `index` (y * width + x) as linear RGBA.
+  void texel(size_t index, float out[4]) const {
+    const size_t i = index * 4;
+    if (!codes8.empty()) {
+      for (int c = 0; c < 4; ++c) out[c] = decode[c][codes8[i + size_t(c)]];
+    } else if (!codes16.empty()) {
+      for (int c = 0; c < 4; ++c) out[c] = decode[c][codes16[i + size_t(c)]];
+    } else {
+      for (int c = 0; c < 4; ++c) out[c] = rgba[i + size_t(c)];
+    }
+  }
+  // Every texel as linear RGBA floats (what `rgba` holds for float levels).
+  std::vector<float> decoded() const;
+  // The memory the texels take.
+  size_t texelBytes() const { return rgba.size() * sizeof(float) + codes8.size() + codes16.size() * sizeof(uint16_t); }
 };
 
 struct LoadedImage {

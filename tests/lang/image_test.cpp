@@ -57,18 +57,18 @@ TEST(ImageDecode, PngRgbaFixtureDecodesToLinear) {
   ASSERT_EQ(quad.levels[0].width, 2);
   ASSERT_EQ(quad.levels[0].height, 2);
   const std::vector<float> want = {1, 0, 0, 1, 0, 1, 0, 1, 0, 0, 1, 1, 1, 1, 1, 51.0f * (1.0f / 255.0f)};
-  EXPECT_EQ(quad.levels[0].rgba, want);
+  EXPECT_EQ(quad.levels[0].decoded(), want);
 }
 
 TEST(ImageDecode, SrgbDecodeOnlyForColourImages) {
   const LoadedImage& colour = loadFixture("ramp.png", false);
   const LoadedImage& data = loadFixture("ramp.png", true);
   EXPECT_NE(&colour, &data);  // two table entries: two decodings of one file
-  EXPECT_FLOAT_EQ(data.levels[0].rgba[4], 64.0f / 255.0f);
-  EXPECT_NEAR(colour.levels[0].rgba[4], 0.0512694584, 1e-6);
-  EXPECT_NEAR(colour.levels[0].rgba[8], std::pow((128.0 / 255.0 + 0.055) / 1.055, 2.4), 1e-6);
-  EXPECT_EQ(colour.levels[0].rgba[12], 1.0f);  // 255 is 1 in both encodings
-  EXPECT_EQ(colour.levels[0].rgba[7], 1.0f);   // alpha of an opaque grey PNG
+  EXPECT_FLOAT_EQ(data.levels[0].decoded()[4], 64.0f / 255.0f);
+  EXPECT_NEAR(colour.levels[0].decoded()[4], 0.0512694584, 1e-6);
+  EXPECT_NEAR(colour.levels[0].decoded()[8], std::pow((128.0 / 255.0 + 0.055) / 1.055, 2.4), 1e-6);
+  EXPECT_EQ(colour.levels[0].decoded()[12], 1.0f);  // 255 is 1 in both encodings
+  EXPECT_EQ(colour.levels[0].decoded()[7], 1.0f);   // alpha of an opaque grey PNG
 }
 
 TEST(ImageDecode, SrgbToLinearIsContinuousAtTheKnee) {
@@ -377,4 +377,39 @@ TEST(ImageBuiltin, ImageValuesPrintTheirFileAndSize) {
   Value v = evaluate(session.program(), fn, {}, WavelengthGroup{});
   EXPECT_EQ(formatValue(v, TypeTable::global().image(), WavelengthGroup{}), "<image quad.png 2x2>");
   EXPECT_EQ(typeName(TypeTable::global().image()), "Image");
+}
+
+// PNG texels stay as their 8- or 16-bit codes (a quarter or half of float RGBA), decoded per
+// lookup through tables: every lookup (each filter and wrap mode, footprints from magnified to
+// beyond the last level) gives the same bits as an image held as decoded floats.
+TEST(ImageLookup, StoredCodesLookUpAsTheDecodedFloats) {
+  for (const char* name : {"noise.png", "deep.png"})
+    for (const bool data : {false, true}) {
+      const LoadedImage& stored = loadFixture(name, data);
+      const ImageLevel& base = stored.levels[0];
+      const size_t texels = size_t(base.width) * size_t(base.height);
+      EXPECT_EQ(base.texelBytes(), texels * 4 * (std::string(name) == "deep.png" ? 2 : 1)) << name;
+      ImageLevel floats;
+      floats.width = base.width;
+      floats.height = base.height;
+      floats.rgba = base.decoded();
+      LoadedImage reference;
+      reference.levels = buildMipPyramid(floats);
+      ASSERT_EQ(reference.levels.size(), stored.levels.size());
+      for (size_t l = 1; l < stored.levels.size(); ++l) EXPECT_EQ(stored.levels[l].rgba, reference.levels[l].rgba) << name << " level " << l;
+      uint32_t state = 7;
+      const auto uniform = [&state](float lo, float hi) {
+        state = state * 1664525u + 1013904223u;
+        return lo + (hi - lo) * float(state >> 8) * 0x1p-24f;
+      };
+      for (int i = 0; i < 4000; ++i) {
+        const float u = uniform(-1.5f, 2.5f), v = uniform(-1.5f, 2.5f), d = std::exp2(uniform(-8.0f, 2.0f));
+        const ImageFilter filter = ImageFilter(i % 3);
+        const int32_t wrap = i / 3 % 3;
+        float got[4], want[4];
+        lookupImage(stored, filter, wrap, u, v, d, 0.3f * d, -0.2f * d, d, got);
+        lookupImage(reference, filter, wrap, u, v, d, 0.3f * d, -0.2f * d, d, want);
+        for (int c = 0; c < 4; ++c) ASSERT_EQ(got[c], want[c]) << name << (data ? " data" : " colour") << " lookup " << i;
+      }
+    }
 }

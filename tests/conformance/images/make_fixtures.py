@@ -30,3 +30,15 @@ with open('not_an_image.png', 'w') as f:
     f.write('this is not a PNG file\n')
 with open('truncated.png', 'wb') as f:  # a PNG signature and a cut-off header
     f.write(b'\x89PNG\r\n\x1a\n\x00\x00\x00\x0dIHDR\x00\x00')
+# Pseudo-random RGBA (a fixed LCG), for lookups from stored codes against decoded floats:
+# noise.png 17x11 at 8 bits, deep.png 7x5 at 16 bits (big-endian samples).
+state = [12345]
+
+
+def lcg():
+    state[0] = (state[0] * 1103515245 + 12345) % 2**31
+    return state[0] >> 8
+
+
+png('noise.png', 17, 11, 6, [[lcg() % 256 for _ in range(17 * 4)] for _ in range(11)])
+png('deep.png', 7, 5, 6, [[b for _ in range(7 * 4) for b in struct.pack('>H', lcg() % 65536)] for _ in range(5)], depth=16)
