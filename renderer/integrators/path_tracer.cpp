@@ -262,7 +262,7 @@ Spectrum PathTracer::radiance(const sampling::IndexSampler& samples, const Ray& 
   // Without it paths inside dense glass were ended with probability 1 - 1 / eta^2 and the
   // survivors carried eta^2 (3.5x the noise in a diamond, 5.5x at IOR 3).
   float etaSquared = 1.0f;
-  MediumStack media;
+  MediumStack media = cameraMedia_;
   int wallsInARow = 0;  // smooth thin walls passed straight since the last vertex that scattered
 
   // Declared once per path: its default initialisation (a 96-byte rep stos) at every bounce

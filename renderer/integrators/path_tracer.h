@@ -14,6 +14,8 @@
 #include <string>
 
 #include "renderer/film/sample_record.h"
+#include "renderer/integrators/camera_media.h"
+#include "renderer/integrators/medium_stack.h"
 #include "renderer/integrators/path_counters.h"
 #include "renderer/integrators/render_scene.h"
 #include "renderer/sampling/sampler.h"
@@ -57,7 +59,8 @@ class PathTracer {
         sampler_(sampler),
         settings_(settings),
         straightRaysPass_(scene.materials().anyMayPassStraightRays()),
-        volumes_(scene.materials().anyTransmitsIntoAVolume()) {}
+        volumes_(scene.materials().anyTransmitsIntoAVolume()),
+        cameraMedia_(volumes_ ? mediaAroundPoint(scene.geometry(), scene.materials(), scene.camera().position()) : MediumStack()) {}
 
   SampleRecord record(uint64_t index) const;
   void operator()(uint64_t index, runtime::Emitter<SampleRecord>& out) const { out.emit(record(index)); }
@@ -92,6 +95,8 @@ class PathTracer {
   bool straightRaysPass_;
   // Some material transmits into a volume (the medium stack can only fill then).
   bool volumes_;
+  // The volumes the camera is inside: every path starts in them.
+  MediumStack cameraMedia_;
   CounterRegistry counters_;
 };
 

@@ -216,3 +216,45 @@ TEST(VolumeAbsorption, LightSamplesIntoAVolumeThroughItsRoughSurfaceAreAbsorbed)
 
 }  // namespace
 }  // namespace tex::render
+
+namespace tex::render {
+namespace {
+
+// A camera inside volumes starts inside them: inside an absorbing cube of side 4 (material 0)
+// and a smaller one of side 2 within it (material 1, the innermost), 0.9 above an emitting
+// square, its rays are absorbed by the inner cube's medium over those 0.9 units. Paths had
+// started in no volume: the camera segment, ending on the square's front, was not absorbed.
+// With the inner cube beside the camera instead, only the outer one absorbs.
+TEST(VolumeAbsorption, ACameraInsideVolumesStartsInThem) {
+  const Vec3 outerColour(0.2f, 0.5f, 0.9f), innerColour(0.7f, 0.4f, 0.3f);
+  const float outerDistance = 0.8f, innerDistance = 1.3f;
+  for (const bool cameraInInner : {true, false}) {
+    SceneDescription scene = absorbingCube(4.0f, outerDistance, outerColour);
+    MeshPrimitive inner = makeBox(cameraInInner ? Vec3(0.0f) : Vec3(3.0f, 0.0f, 0.0f), Vec3(2.0f), false);
+    inner.material = 1;
+    scene.primitives.push_back(inner);
+    scene.instances.push_back(MeshInstance{1, Mat4(1.0f), "inner"});
+    GltfMaterial innerVolume = scene.materials[0];
+    innerVolume.attenuationDistance = innerDistance;
+    innerVolume.attenuationColor = innerColour;
+    scene.materials.push_back(innerVolume);
+    MeshPrimitive square = makeBox(Vec3(0.0f, 0.0f, -0.05f), Vec3(0.6f, 0.6f, 0.1f), false);  // top face at z = 0
+    square.material = 2;
+    scene.primitives.push_back(square);
+    scene.instances.push_back(MeshInstance{2, Mat4(1.0f), "square"});
+    GltfMaterial glow;
+    glow.name = "glow";
+    scene.materials.push_back(glow);
+    test::bindEntriesByMaterialName(scene, test::writeTexModule("camera_in_volume", "export fn glow(h: Hit) -> Material = emission(spectrum(1.0))\n"),
+                                    {"glow"});
+    scene.cameras.push_back(test::cameraLookingDownZ(Vec3(0.0f, 0.0f, 0.9f), 0.0005f));
+    const double worst = worstDifference(scene, 1, [&](const Wavelengths& one) {
+      const float c = rgbReflectanceSpectrum(cameraInInner ? innerColour : outerColour, one).v[0];
+      return std::pow(c, 0.9f / (cameraInInner ? innerDistance : outerDistance));
+    });
+    EXPECT_LT(worst, 2e-4) << (cameraInInner ? "inside the inner cube" : "beside the inner cube");
+  }
+}
+
+}  // namespace
+}  // namespace tex::render

@@ -1,0 +1,20 @@
+// The volumes a point lies inside, for paths that start there (the camera): a path keeps the
+// volumes it enters (medium_stack.h), but a camera under water or inside glass starts inside
+// one without entering it.
+#pragma once
+
+#include "renderer/core/geometry.h"
+#include "renderer/geometry/scene_geometry.h"
+#include "renderer/integrators/medium_stack.h"
+#include "renderer/material/material_system.h"
+
+namespace tex::render {
+
+// The KHR_materials_volume interiors (MaterialSystem::transmitsIntoAVolume) around `p`, the
+// outermost entered first: a volume encloses p when rays from p cross its material's surfaces
+// an odd number of times (the majority of three rays, so that one grazing an edge does not
+// decide), and of nested volumes the one whose surface such a ray meets first is the innermost.
+// Volumes of .tex materials (refracting solids without a declared interior) are not found.
+MediumStack mediaAroundPoint(const SceneGeometry& geometry, const MaterialSystem& materials, const Vec3& p);
+
+}  // namespace tex::render
