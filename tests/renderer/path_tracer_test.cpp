@@ -320,15 +320,8 @@ TEST(PathTracer, PointAndDirectionalLightsShineThroughSmoothThinWalls) {
   const float wallR = 2.0f * 0.04f / 1.04f, wallT = (1.0f - wallR) * 0.5f;
   for (const bool sun : {true, false}) {
     SceneDescription scene;
-    for (const auto& [name, z, size] : {std::tuple{"pane", 1.0f, 4.0f}, std::tuple{"floor", 0.0f, 10.0f}}) {
-      MeshPrimitive quad = makeQuad(Vec3(-size / 2, -size / 2, z), Vec3(size, 0, 0), Vec3(0, size, 0));
-      quad.material = int(scene.materials.size());
-      scene.primitives.push_back(quad);
-      scene.instances.push_back(MeshInstance{int(scene.primitives.size()) - 1, Mat4(1.0f), name});
-      GltfMaterial m;
-      m.name = name;
-      scene.materials.push_back(m);
-    }
+    for (const auto& [name, z, size] : {std::tuple{"pane", 1.0f, 4.0f}, std::tuple{"floor", 0.0f, 10.0f}})
+      test::addNamedMesh(scene, name, makeQuad(Vec3(-size / 2, -size / 2, z), Vec3(size, 0, 0), Vec3(0, size, 0)));
     test::bindEntriesByMaterialName(scene, file, {"pane", "floor"});
     scene.cameras.push_back(test::cameraLookingDownZ(Vec3(0.0f, 0.0f, 3.0f), 0.05f));
     LightDesc light;

@@ -22,7 +22,17 @@ inline std::string writeTexModule(const std::string& stem, const std::string& te
   return path.string();
 }
 
-// A square-film camera at `eye` looking down -z.
+// Adds `mesh` with one instance and a glTF material of its own named `name` (for
+// bindEntriesByMaterialName).
+inline void addNamedMesh(SceneDescription& scene, const std::string& name, MeshPrimitive mesh) {
+  mesh.material = int(scene.materials.size());
+  scene.primitives.push_back(std::move(mesh));
+  scene.instances.push_back(MeshInstance{int(scene.primitives.size()) - 1, Mat4(1.0f), name});
+  GltfMaterial m;
+  m.name = name;
+  scene.materials.push_back(m);
+}
+
 // Binds each entry of `texFile` to the glTF material of the same name.
 inline void bindEntriesByMaterialName(SceneDescription& scene, const std::string& texFile,
                                       const std::vector<std::string>& entries) {
@@ -35,6 +45,7 @@ inline void bindEntriesByMaterialName(SceneDescription& scene, const std::string
   }
 }
 
+// A square-film camera at `eye` looking down -z.
 inline CameraDesc cameraLookingDownZ(Vec3 eye, float yFovRadians) {
   CameraDesc c;
   c.cameraToWorld = Mat4(1.0f);

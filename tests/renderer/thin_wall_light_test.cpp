@@ -34,14 +34,7 @@ SceneDescription windowScene(Lamp lamp, int panes, bool mixedPane) {
                     "export fn floor(h: Hit) -> Material = diffuse(spectrum(0.5))\n"
                     "export fn lamp(h: Hit) -> Material = emission(spectrum(20.0))\n");
   SceneDescription scene;
-  const auto add = [&](const std::string& name, MeshPrimitive quad) {
-    quad.material = int(scene.materials.size());
-    scene.primitives.push_back(quad);
-    scene.instances.push_back(MeshInstance{int(scene.primitives.size()) - 1, Mat4(1.0f), name});
-    GltfMaterial m;
-    m.name = name;
-    scene.materials.push_back(m);
-  };
+  const auto add = [&](const std::string& name, MeshPrimitive quad) { test::addNamedMesh(scene, name, std::move(quad)); };
   add("floor", makeQuad(Vec3(-5, -5, 0), Vec3(10, 0, 0), Vec3(0, 10, 0)));
   for (int i = 0; i < panes; ++i)
     add(mixedPane ? "mixed" : "pane", makeQuad(Vec3(-2, -2, 1.0f + 0.25f * float(i)), Vec3(4, 0, 0), Vec3(0, 4, 0)));

@@ -84,15 +84,12 @@ TEST(VolumeAbsorption, StraightThroughAnIndexMatchedCubeIsCToTheDOverD) {
 // Until round 16 only a segment that ended on the back of a volume was absorbed, by that volume
 // (here the camera segment ends on the square's front: it was not absorbed at all, and shadow
 // rays never were).
+// A 0.6 x 0.6 slab whose top face is the square at z = 0.
+MeshPrimitive squareAtZ0() { return makeBox(Vec3(0.0f, 0.0f, -0.05f), Vec3(0.6f, 0.6f, 0.1f), false); }
+
 SceneDescription squareInsideAVolume(float distance, const Vec3& colour, bool emissiveSquare) {
   SceneDescription scene = absorbingCube(2.0f, distance, colour);
-  MeshPrimitive square = makeBox(Vec3(0.0f, 0.0f, -0.05f), Vec3(0.6f, 0.6f, 0.1f), false);  // top face at z = 0
-  square.material = 1;
-  scene.primitives.push_back(square);
-  scene.instances.push_back(MeshInstance{1, Mat4(1.0f), "square"});
-  GltfMaterial surface;
-  surface.name = "surface";
-  scene.materials.push_back(surface);
+  test::addNamedMesh(scene, "surface", squareAtZ0());
   TexMaterialBinding b;
   b.file = test::writeTexModule("inside_volume", "export fn white(h: Hit) -> Material = diffuse(spectrum(1.0))\n"
                                                  "export fn glow(h: Hit) -> Material = emission(spectrum(1.0))\n");
@@ -214,11 +211,6 @@ TEST(VolumeAbsorption, LightSamplesIntoAVolumeThroughItsRoughSurfaceAreAbsorbed)
   EXPECT_LT(dark, 1e-6 * clear);
 }
 
-}  // namespace
-}  // namespace tex::render
-
-namespace tex::render {
-namespace {
 
 // A camera inside volumes starts inside them: inside an absorbing cube of side 4 (material 0)
 // and a smaller one of side 2 within it (material 1, the innermost), 0.9 above an emitting
@@ -238,13 +230,7 @@ TEST(VolumeAbsorption, ACameraInsideVolumesStartsInThem) {
     innerVolume.attenuationDistance = innerDistance;
     innerVolume.attenuationColor = innerColour;
     scene.materials.push_back(innerVolume);
-    MeshPrimitive square = makeBox(Vec3(0.0f, 0.0f, -0.05f), Vec3(0.6f, 0.6f, 0.1f), false);  // top face at z = 0
-    square.material = 2;
-    scene.primitives.push_back(square);
-    scene.instances.push_back(MeshInstance{2, Mat4(1.0f), "square"});
-    GltfMaterial glow;
-    glow.name = "glow";
-    scene.materials.push_back(glow);
+    test::addNamedMesh(scene, "glow", squareAtZ0());
     test::bindEntriesByMaterialName(scene, test::writeTexModule("camera_in_volume", "export fn glow(h: Hit) -> Material = emission(spectrum(1.0))\n"),
                                     {"glow"});
     scene.cameras.push_back(test::cameraLookingDownZ(Vec3(0.0f, 0.0f, 0.9f), 0.0005f));
