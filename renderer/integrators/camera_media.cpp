@@ -8,16 +8,16 @@ namespace tex::render {
 
 namespace {
 
-struct Crossings {
-  int count = 0;
-  float firstT = 0;  // distance along the ray to the first of them
+struct FirstCrossing {
+  bool leaving = false;  // through the back of the surface (the ray was inside)
+  float t = 0;           // distance along the ray
 };
 
-// Every crossing of a volume's surface along the ray from p in `direction`, per material.
-std::map<int, Crossings> crossingsAlong(const SceneGeometry& geometry, const MaterialSystem& materials, const Vec3& p,
-                                        const Vec3& direction) {
+// The first crossing of each volume's surfaces along the ray from p in `direction`.
+std::map<int, FirstCrossing> firstCrossingsAlong(const SceneGeometry& geometry, const MaterialSystem& materials, const Vec3& p,
+                                                 const Vec3& direction) {
   constexpr int kMaxSurfaces = 4096;  // a ray through more is not worth following
-  std::map<int, Crossings> out;
+  std::map<int, FirstCrossing> out;
   Ray ray;
   ray.origin = p;
   ray.direction = direction;
@@ -27,10 +27,8 @@ std::map<int, Crossings> crossingsAlong(const SceneGeometry& geometry, const Mat
   for (int k = 0; k < kMaxSurfaces && geometry.intersect(ray, hit); ++k) {
     travelled += hit.t;
     const int material = materials.materialOfPrimitive(hit.primitive);
-    if (materials.transmitsIntoAVolume(material)) {
-      Crossings& c = out[material];
-      if (c.count++ == 0) c.firstT = travelled;
-    }
+    if (materials.transmitsIntoAVolume(material) && !out.count(material))
+      out[material] = FirstCrossing{dot3(direction, hit.ng) > 0.0f, travelled};
     const Vec3 next = offsetRayOrigin(hit.p, hit.ng, direction, hit.pError);
     travelled += length(next - hit.p);
     ray.origin = next;
@@ -44,16 +42,20 @@ MediumStack mediaAroundPoint(const SceneGeometry& geometry, const MaterialSystem
   // Directions unlikely to run along a modelled edge or face.
   const Vec3 directions[3] = {normalize(Vec3(0.2718f, 0.9311f, 0.1414f)), normalize(Vec3(-0.5772f, -0.1618f, 0.8007f)),
                               normalize(Vec3(0.6931f, -0.3010f, -0.6543f))};
-  std::map<int, int> insideVotes;
-  std::map<int, float> firstT;  // from the first ray that voted inside
+  struct Votes {
+    int inside = 0, outside = 0;
+    float t = 0;  // distance to the surface, from the first ray that voted inside
+  };
+  std::map<int, Votes> votes;
   for (const Vec3& d : directions)
-    for (const auto& [material, c] : crossingsAlong(geometry, materials, p, d)) {
-      if (c.count % 2 == 0) continue;
-      if (insideVotes[material]++ == 0) firstT[material] = c.firstT;
+    for (const auto& [material, first] : firstCrossingsAlong(geometry, materials, p, d)) {
+      Votes& v = votes[material];
+      if (!first.leaving) ++v.outside;
+      else if (v.inside++ == 0) v.t = first.t;
     }
   std::vector<std::pair<float, int>> enclosing;  // (distance to its surface, material)
-  for (const auto& [material, votes] : insideVotes)
-    if (votes >= 2) enclosing.push_back({firstT[material], material});
+  for (const auto& [material, v] : votes)
+    if (v.inside > v.outside) enclosing.push_back({v.t, material});
   std::sort(enclosing.begin(), enclosing.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
   MediumStack media;
   for (const auto& [t, material] : enclosing) media.enter(material);  // outermost (farthest surface) first

@@ -11,10 +11,12 @@
 namespace tex::render {
 
 // The KHR_materials_volume interiors (MaterialSystem::transmitsIntoAVolume) around `p`, the
-// outermost entered first: a volume encloses p when rays from p cross its material's surfaces
-// an odd number of times (the majority of three rays, so that one grazing an edge does not
-// decide), and of nested volumes the one whose surface such a ray meets first is the innermost.
-// Volumes of .tex materials (refracting solids without a declared interior) are not found.
+// outermost entered first: a volume encloses p when rays from p meet its material's surfaces
+// first from behind (leaving), by the majority of the three rays that meet them (so that one
+// grazing an edge does not decide; and an open surface such as a sea modelled as a plane
+// encloses what is below it, not what is above), and of nested volumes the one whose surface
+// the rays meet first is the innermost. Volumes of .tex materials (refracting solids without
+// a declared interior) are not found.
 MediumStack mediaAroundPoint(const SceneGeometry& geometry, const MaterialSystem& materials, const Vec3& p);
 
 }  // namespace tex::render

@@ -5,6 +5,8 @@
 // volume (a surface inside it, a lamp), the segment is absorbed, and so are shadow rays.
 #include <gtest/gtest.h>
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include <cmath>
 #include <functional>
 #include <tuple>
@@ -239,6 +241,35 @@ TEST(VolumeAbsorption, ACameraInsideVolumesStartsInThem) {
       return std::pow(c, 0.9f / (cameraInInner ? innerDistance : outerDistance));
     });
     EXPECT_LT(worst, 2e-4) << (cameraInInner ? "inside the inner cube" : "beside the inner cube");
+  }
+}
+
+// A sea modelled as an open plane (z = 0, facing up) of absorbing glTF volume over a lamp at
+// z = -0.5: a camera above it starts in air (its rays are absorbed over the 0.5 units below the
+// surface), one below it in the sea (over the 0.3 units to the lamp). The scene is built with
+// z up, then also turned so that y is up (glTF's convention): there, counting crossings had put
+// the camera above the plane inside the sea as well (two of the three rays going down cross it
+// once).
+TEST(VolumeAbsorption, AnOpenSeaHoldsACameraBelowItNotAbove) {
+  const Vec3 colour(0.3f, 0.6f, 0.8f);
+  const float distance = 0.7f;
+  for (const auto& [yUp, below] : {std::pair{false, false}, std::pair{false, true}, std::pair{true, false}, std::pair{true, true}}) {
+    SceneDescription scene = absorbingCube(1.0f, distance, colour);
+    scene.primitives[0] = makeQuad(Vec3(-50.0f, -50.0f, 0.0f), Vec3(100.0f, 0.0f, 0.0f), Vec3(0.0f, 100.0f, 0.0f));
+    scene.primitives[0].material = 0;
+    test::addNamedMesh(scene, "glow", makeBox(Vec3(0.0f, 0.0f, -0.55f), Vec3(0.6f, 0.6f, 0.1f), false));  // top face at z = -0.5
+    test::bindEntriesByMaterialName(scene, test::writeTexModule("open_sea", "export fn glow(h: Hit) -> Material = emission(spectrum(1.0))\n"),
+                                    {"glow"});
+    scene.cameras.push_back(test::cameraLookingDownZ(Vec3(0.0f, 0.0f, below ? -0.2f : 1.0f), 0.0005f));
+    if (yUp) {  // +z to +y
+      const Mat4 turn = glm::rotate(Mat4(1.0f), -float(M_PI) / 2.0f, Vec3(1.0f, 0.0f, 0.0f));
+      for (MeshInstance& instance : scene.instances) instance.objectToWorld = turn * instance.objectToWorld;
+      scene.cameras.back().cameraToWorld = turn * scene.cameras.back().cameraToWorld;
+    }
+    const double worst = worstDifference(scene, 2, [&](const Wavelengths& one) {
+      return std::pow(rgbReflectanceSpectrum(colour, one).v[0], (below ? 0.3f : 0.5f) / distance);
+    });
+    EXPECT_LT(worst, 2e-4) << (below ? "below" : "above") << (yUp ? ", y up" : ", z up");
   }
 }
 
