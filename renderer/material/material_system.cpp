@@ -72,7 +72,9 @@ bool evaluateGltf(const MaterialSystem::Impl& im, const GltfMaterial& m, const S
   const GltfInputs in = gltfInputs(*im.scene, m, point);
   const auto args = in.words();
   static_assert(args.size() == size_t(kGltfArgumentWords));
-  return evaluateEntry(im.gltfMaterial.entry, args.data(), kGltfArgumentWords, point, lambda, &bsdf, emission).ok;
+  const bool ok = evaluateEntry(im.gltfMaterial.entry, args.data(), kGltfArgumentWords, point, lambda, &bsdf, emission).ok;
+  applyGltfClearcoatNormal(*im.scene, m, point, bsdf);
+  return ok;
 }
 
 }  // namespace
