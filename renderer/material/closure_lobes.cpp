@@ -151,7 +151,7 @@ struct Walker {
   bool subtreeHas(int32_t index, Pred pred, int depth = 0) const {
     if (index < 0 || index >= nodeCount || depth > kArenaCapacity) return false;
     const compiler::ClosureNode& node = nodes[index];
-    if (pred(node.kind)) return true;
+    if (pred(node)) return true;
     switch (node.kind) {
       case compiler::ClosureKind::Mix:
       case compiler::ClosureKind::Add:
@@ -179,6 +179,16 @@ struct Walker {
     const bool dielectric = nodes[c].kind == compiler::ClosureKind::Dielectric ||
                             nodes[c].kind == compiler::ClosureKind::GlossyDielectric;
     return dielectric ? c : -1;
+  }
+
+  // Whether a sheen layer is a cover (covers.h): its base holds more than diffuse materials.
+  bool sheenIsACover(const compiler::ClosureNode& layer) const {
+    return subtreeHas(layer.b, [](const compiler::ClosureNode& n) { return !allowedUnderSheen(n.kind); });
+  }
+  // Whether a layer takes the Bsdf's coat or a cover: all but sheens over diffuse bases.
+  bool needsTheCoat(const compiler::ClosureNode& layer) const {
+    const bool sheen = layer.a >= 0 && layer.a < nodeCount && nodes[layer.a].kind == compiler::ClosureKind::Sheen;
+    return !sheen || sheenIsACover(layer);
   }
 
   // Whether a cover may start here: it must hold every lobe the Bsdf will have.
@@ -306,10 +316,12 @@ struct Walker {
         const int32_t c = node.a;
         if (c >= 0 && c < nodeCount && nodes[c].kind == compiler::ClosureKind::Sheen) {
           const compiler::ClosureNode& sheenNode = nodes[c];
-          if (subtreeHas(node.b, [](compiler::ClosureKind k) { return !allowedUnderSheen(k); })) {
+          if (sheenIsACover(node)) {
             // A sheen over other bases (glTF's sheen over its layered material): a cover,
             // scaling every lobe below by what the sheen does not reflect (covers.h).
-            if (!coverMayStart()) {
+            // Every lobe of the Bsdf but the sheen is scaled: one sheen, over all of them.
+            if (!coverMayStart() ||
+                subtreeHas(node.b, [](const compiler::ClosureNode& n) { return n.kind == compiler::ClosureKind::Sheen; })) {
               result.ok = false;
               return;
             }
@@ -343,9 +355,10 @@ struct Walker {
         Spectrum coverage(1.0f);
         bool partial = false;
         const int32_t interfaceNode = coatInterface(c, coverage, partial);
-        // A coat over a base that is itself layered is a clearcoat, over everything (covers.h).
-        const bool clearcoat = interfaceNode >= 0 && subtreeHas(node.b, [](compiler::ClosureKind k) {
-                                 return k == compiler::ClosureKind::Layer;
+        // A coat over a base that needs the Bsdf's coat itself (a dielectric layer, or a sheen
+        // cover) is a clearcoat, over everything (covers.h).
+        const bool clearcoat = interfaceNode >= 0 && subtreeHas(node.b, [this](const compiler::ClosureNode& n) {
+                                 return n.kind == compiler::ClosureKind::Layer && needsTheCoat(n);
                                });
         if (interfaceNode < 0 || underCoat || (clearcoat && !coverMayStart())) {
           result.ok = false;  // coats of other kinds, or nested coats not over everything, are not supported
