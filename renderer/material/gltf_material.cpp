@@ -17,8 +17,10 @@ Vec3 baseColorAt(const SceneDescription& scene, const GltfMaterial& m, const Sha
 }
 
 
-// emissiveFactor x strength x the sRGB-decoded emissive texture (no lookup when black).
+// emissiveFactor x strength x the sRGB-decoded emissive texture (no lookup when black); an unlit
+// material's (KHR_materials_unlit) is its base colour, clamped to [0, 1] as a reflectance is.
 Vec3 emissionRgb(const SceneDescription& scene, const GltfMaterial& m, const ShadingPoint& point) {
+  if (m.unlit) return glm::clamp(baseColorAt(scene, m, point), Vec3(0.0f), Vec3(1.0f));
   const Vec3 e = m.emissiveFactor * m.emissiveStrength;
   return e == Vec3(0.0f) ? e : e * Vec3(lookupTexture(scene, m.emissiveTexture, point.uv, point.uv1, true));
 }

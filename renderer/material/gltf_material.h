@@ -51,7 +51,9 @@ void applyGltfClearcoatNormal(const SceneDescription& scene, const GltfMaterial&
                               Bsdf& bsdf);
 
 // Emitted radiance (emissive factor x strength x texture, upsampled as an illuminant): what
-// std.gltf's emission closure gives, evaluated natively for area lights.
+// std.gltf's emission closure gives, evaluated natively for area lights. An unlit material
+// (KHR_materials_unlit) emits its base colour instead and scatters nothing
+// (docs/gltf-extensions.md).
 Spectrum gltfEmission(const SceneDescription& scene, const GltfMaterial& material, const ShadingPoint& point,
                       const Wavelengths& lambda);
 

@@ -97,6 +97,7 @@ struct GltfMaterial {
   TextureRef specularTexture;             // (A)
   Vec3 specularColorFactor{1.0f};
   TextureRef specularColorTexture;        // (RGB, sRGB)
+  bool unlit = false;                     // KHR_materials_unlit: emits its base colour, scatters nothing
   enum class AlphaMode : uint8_t { Opaque, Mask, Blend } alphaMode = AlphaMode::Opaque;
   float alphaCutoff = 0.5f;
   bool doubleSided = false;

@@ -15,6 +15,7 @@
 #include "renderer/bsdf/sheen_albedo.h"
 #include "renderer/material/closure_lobes.h"
 #include "renderer/material/gltf_material.h"
+#include "renderer/material/material_system.h"
 #include "renderer/material/tex_binding.h"
 #include "renderer/sampling/pcg.h"
 #include "renderer/scene/gltf_loader.h"
@@ -447,6 +448,25 @@ TEST_F(GltfExtensionsLoading, BadValuesAreClampedWithWarningsNamingThem) {
   for (const std::string& w : scene->warnings)  // each names the file and the material
     if (w.find("KHR_materials_") != std::string::npos)
       EXPECT_TRUE(w.find("layers.gltf: material 0") != std::string::npos) << w;
+}
+
+// KHR_materials_unlit: the surface emits its base colour (upsampled as an illuminant, so white
+// renders as 1) and scatters nothing; it counts as an emitter.
+TEST_F(GltfExtensionsLoading, UnlitMaterialsEmitTheirBaseColourAndScatterNothing) {
+  std::vector<std::string> errors;
+  const auto scene = load({{"KHR_materials_unlit", json::object()}}, errors);  // base colour (0.8, 0, 0)
+  ASSERT_TRUE(scene) << (errors.empty() ? "" : errors[0]);
+  ASSERT_TRUE(scene->materials[0].unlit);
+  std::string error;
+  const auto materials = MaterialSystem::create(*scene, MaterialOptions{}, error);
+  ASSERT_TRUE(materials) << error;
+  EXPECT_TRUE(materials->isEmissive(0));
+  Bsdf bsdf(Frame(), Vec3(0, 0, 1));
+  Spectrum emission;
+  ASSERT_TRUE(materials->shade(0, flatPoint(), lambdas(), bsdf, emission));
+  EXPECT_TRUE(bsdf.empty());
+  const Spectrum expected = rgbIlluminantSpectrum(Vec3(0.8f, 0.0f, 0.0f), lambdas());
+  for (int lane = 0; lane < kWavelengths; ++lane) EXPECT_FLOAT_EQ(emission[lane], expected[lane]) << lane;
 }
 
 }  // namespace
