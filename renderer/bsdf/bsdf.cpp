@@ -79,11 +79,10 @@ void Bsdf::updateTwoCoatAverage() {
 }
 
 bool Bsdf::setPartialCoat(const Lobe& coat, const Spectrum& coverage) {
-  if (!setCoat(coat)) return false;
+  if (hasCoat_) return false;
   startCovers();
   covers_.c.coatCoverage = coverage;
-  updateTwoCoatAverage();
-  return true;
+  return setCoat(coat);  // with the coverage in place for the two-coat average
 }
 
 bool Bsdf::setClearcoat(const Lobe& interface, const Spectrum& coverage) {
