@@ -208,6 +208,48 @@ TEST(GltfExtensions, NeutralFactorsGiveTheMaterialWithoutTheExtensionBitForBit) 
   }
 }
 
+// The inputs std.gltf receives: each factor times its texture's channel (clearcoat R,
+// clearcoat roughness G, sheen roughness A, specular A; the colours sRGB-decoded RGB),
+// clamped to the specification's ranges; a clearcoatNormalTexture makes the material read hits.
+TEST(GltfExtensions, InputsAreFactorsTimesTheirTextureChannels) {
+  SceneDescription scene;
+  ImageData image;  // one pixel of linear values (as stored; sRGB decoding happens at lookup)
+  image.width = image.height = 1;
+  image.channels = 4;
+  image.pixels = {0.5f, 0.25f, 1.0f, 0.75f};
+  scene.images.push_back(image);
+  TextureRef texture;
+  texture.image = 0;
+  GltfMaterial m;
+  m.clearcoatFactor = 0.8f;
+  m.clearcoatTexture = texture;
+  m.clearcoatRoughnessFactor = 0.6f;
+  m.clearcoatRoughnessTexture = texture;
+  m.sheenColorFactor = Vec3(1.0f, 0.5f, 0.25f);
+  m.sheenColorTexture = texture;
+  m.sheenRoughnessFactor = 0.4f;
+  m.sheenRoughnessTexture = texture;
+  m.specularFactor = 1.0f;
+  m.specularTexture = texture;
+  m.specularColorFactor = Vec3(2.0f);
+  m.specularColorTexture = texture;
+  const GltfInputs in = gltfInputs(scene, m, flatPoint());
+  const auto srgb = [](float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f); };
+  EXPECT_FLOAT_EQ(in.clearcoat, 0.8f * 0.5f);
+  EXPECT_FLOAT_EQ(in.clearcoatRoughness, 0.6f * 0.25f);
+  EXPECT_NEAR(in.sheenColor.x, 1.0f * srgb(0.5f), 1e-5f);
+  EXPECT_NEAR(in.sheenColor.y, 0.5f * srgb(0.25f), 1e-5f);
+  EXPECT_NEAR(in.sheenColor.z, 0.25f * srgb(1.0f), 1e-5f);
+  EXPECT_FLOAT_EQ(in.sheenRoughness, 0.4f * 0.75f);
+  EXPECT_FLOAT_EQ(in.specular, 0.75f);
+  EXPECT_NEAR(in.specularColor.x, 2.0f * srgb(0.5f), 1e-5f);  // above 1 is kept
+  EXPECT_NEAR(in.specularColor.z, 2.0f * srgb(1.0f), 1e-5f);
+  EXPECT_TRUE(gltfReadsHit(scene, m));
+  GltfMaterial normalOnly;
+  normalOnly.clearcoatNormalTexture = texture;
+  EXPECT_TRUE(gltfReadsHit(scene, normalOnly));
+}
+
 // ---- energy ------------------------------------------------------------------------------
 
 TEST(GltfExtensions, NoCombinationReflectsMoreThanItReceives) {
