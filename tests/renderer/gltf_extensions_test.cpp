@@ -319,6 +319,37 @@ TEST(GltfExtensions, ClearcoatAndSpecularOverWhitePlasticAreLossless) {
   }
 }
 
+TEST(GltfExtensions, LayeredReflectionIsReciprocal) {
+  // Every cover's factor is symmetric in wo and wi, so reflection stays reciprocal: rough
+  // plastic under a partial tinted coat, a sheen and a rough clearcoat, with and without the
+  // clearcoat's own frame.
+  GltfInputs in = plastic(0.7f, 0.4f);
+  in.metallic = 0.3f;
+  in.clearcoat = 0.8f;
+  in.clearcoatRoughness = 0.5f;
+  in.sheenColor = Vec3(0.6f, 0.8f, 1.0f);
+  in.sheenRoughness = 0.4f;
+  in.specular = 0.6f;
+  in.specularColor = Vec3(1.0f, 0.6f, 0.3f);
+  Shaded s = shadeGltf(in);
+  ASSERT_TRUE(s.ok && s.bsdf.hasClearcoat() && s.bsdf.hasSheenCover() && s.bsdf.hasCoat());
+  for (bool ownFrame : {false, true}) {
+    if (ownFrame)
+      s.bsdf.setClearcoatFrame(Frame::fromNormalTangent(glm::normalize(Vec3(0.2f, -0.1f, 1.0f)), Vec3(1, 0, 0)));
+    for (float thetaO : {5.0f, 40.0f, 75.0f})
+      for (float thetaI : {15.0f, 55.0f, 85.0f}) {
+        const Vec3 wo = fromAngles(thetaO, 0.4f), wi = fromAngles(thetaI, 2.9f);
+        const Spectrum forward = s.bsdf.eval(wo, wi, TransportMode::Radiance);
+        const Spectrum backward = s.bsdf.eval(wi, wo, TransportMode::Radiance);
+        for (int lane = 0; lane < kWavelengths; ++lane) {
+          EXPECT_GT(forward[lane], 0.0f);
+          EXPECT_NEAR(forward[lane], backward[lane], 1e-5f * std::max(1.0f, forward[lane]))
+              << ownFrame << " " << thetaO << " " << thetaI << " lane " << lane;
+        }
+      }
+  }
+}
+
 // ---- each extension against its specification's formula ---------------------------------
 
 TEST(GltfExtensions, ClearcoatAddsItsFresnelAndAttenuatesTheBase) {
