@@ -1,14 +1,14 @@
 // Layers over a whole Bsdf (docs/layering.md, "Covers"): what glTF's KHR_materials_clearcoat
 // and KHR_materials_sheen put on top of a material whose base is itself layered (a coat over a
 // diffuse base, a metal). Private to renderer/bsdf/ (Bsdf::setClearcoat, setSheenCover and
-// setCoatCoverage are the public entry points). Factors are per lane; cosines are |cos| with
+// setPartialCoat are the public entry points). Factors are per lane; cosines are |cos| with
 // the normal of the layer in question.
 //  - Coverage k of a coat (a scaled coat, `layer(scale_material(dielectric(..), k), base)`):
 //    the coat is present on a fraction k, so every factor below is (1 - k) + k T, and the
 //    coat's reflection carries k. A white Lambertian base keeps albedo exactly 1.
 //  - Clearcoat: a dielectric interface over every lobe and over the Bsdf's own coat. Lambertian
 //    lobes take the Lambertian transmittance of layer.h; lobes under the Bsdf's coat too take
-//    the transmittance of the two interfaces together (combinedTransmittance below), so a white
+//    the transmittance of the two interfaces together (twoCoatTransmittance below), so a white
 //    Lambertian under both smooth coats has albedo exactly 1; other lobes and the inner coat's
 //    reflection take the directional 1 - max(F(cos_o), F(cos_i)).
 //  - Sheen cover: a sheen of colour a (per lane) and alpha over every other lobe and the
