@@ -6,6 +6,7 @@
 
 #include "renderer/bsdf/bsdf.h"
 #include "renderer/bsdf/bsdf_constants.h"
+#include "renderer/bsdf/covers.h"
 #include "renderer/bsdf/lambertian.h"
 #include "renderer/bsdf/layer.h"
 #include "renderer/bsdf/microfacet.h"
@@ -54,7 +55,70 @@ bool Bsdf::setCoat(const Lobe& coat) {
   hasCoat_ = true;
   coatSelection_ = selectionWeight(coat);
   hasNonSpecular_ = hasNonSpecular_ || (!coatIsSpecular(coat_) && coatSelection_ > 0.0f);
+  if (covered_) updateTwoCoatAverage();
   return true;
+}
+
+void Bsdf::startCovers() {
+  if (covered_) return;
+  covered_ = true;
+  Covers& c = covers_.c;
+  c = Covers{};
+  c.coatCoverage = Spectrum(1.0f);
+  c.hasClearcoat = false;
+  c.clearcoatCoverage = Spectrum(1.0f);
+  c.clearcoatSelection = 0.0f;
+  c.clearcoatOwnFrame = false;
+  c.hasSheenCover = false;
+  c.sheenAlpha = 0.0f;
+}
+
+void Bsdf::updateTwoCoatAverage() {
+  Covers& c = covers_.c;
+  if (hasCoat_ && c.hasClearcoat) c.twoCoatAverage = twoCoatAverageTransmission(c.clearcoat, coat_, c.coatCoverage);
+}
+
+bool Bsdf::setPartialCoat(const Lobe& coat, const Spectrum& coverage) {
+  if (hasCoat_) return false;
+  startCovers();
+  covers_.c.coatCoverage = coverage;
+  return setCoat(coat);  // with the coverage in place for the two-coat average
+}
+
+bool Bsdf::setClearcoat(const Lobe& interface, const Spectrum& coverage) {
+  if (hasClearcoat() || (interface.kind != LobeKind::SmoothDielectric && interface.kind != LobeKind::RoughDielectric))
+    return false;
+  startCovers();
+  Covers& c = covers_.c;
+  c.hasClearcoat = true;
+  c.clearcoat = interface;
+  c.clearcoatCoverage = coverage;
+  c.clearcoatSelection = selectionWeight(interface);
+  hasNonSpecular_ = hasNonSpecular_ || (!coatIsSpecular(interface) && c.clearcoatSelection > 0.0f);
+  updateTwoCoatAverage();
+  return true;
+}
+
+void Bsdf::setClearcoatFrame(const Frame& worldFrame) {
+  startCovers();
+  covers_.c.clearcoatFrame = Frame::fromNormalTangent(frame_.toLocal(worldFrame.n), frame_.toLocal(worldFrame.s));
+  covers_.c.clearcoatOwnFrame = true;
+}
+
+bool Bsdf::setSheenCover(const Spectrum& colour, float alpha) {
+  if (hasSheenCover()) return false;
+  startCovers();
+  covers_.c.hasSheenCover = true;
+  covers_.c.sheenColour = colour;
+  covers_.c.sheenAlpha = alpha;
+  return true;
+}
+
+Vec3 Bsdf::toClearcoat(const Vec3& local) const {
+  return covers_.c.clearcoatOwnFrame ? covers_.c.clearcoatFrame.toLocal(local) : local;
+}
+Vec3 Bsdf::fromClearcoat(const Vec3& clearcoatLocal) const {
+  return covers_.c.clearcoatOwnFrame ? covers_.c.clearcoatFrame.toWorld(clearcoatLocal) : clearcoatLocal;
 }
 
 void Bsdf::copyLobesFrom(const Bsdf& other) {
@@ -68,6 +132,8 @@ void Bsdf::copyLobesFrom(const Bsdf& other) {
   coatSelection_ = other.coatSelection_;
   hasNonSpecular_ = other.hasNonSpecular_;
   hasDispersiveDensity_ = other.hasDispersiveDensity_;
+  covered_ = other.covered_;
+  if (covered_) covers_.c = other.covers_.c;
 }
 
 // Sum of |weight| over all 8 lanes. Lanes past the group's count are zero (spectrum.h), so this
@@ -84,6 +150,7 @@ float Bsdf::selectionWeight(const Lobe& l) {
 }
 
 float Bsdf::componentWeights(const Vec3& wo, float* weights) const {
+  if (covered_) return componentWeightsCovered(wo, weights);
   // With a coat, the share reflected at wo goes to the coat and the rest to the coated lobes.
   const float coatShare = hasCoat_ ? coatSelectionReflectance(coat_, wo) : 0.0f;
   float total = 0.0f;
@@ -97,6 +164,7 @@ float Bsdf::componentWeights(const Vec3& wo, float* weights) const {
 }
 
 Spectrum Bsdf::localEval(const Vec3& wo, const Vec3& wi, TransportMode mode) const {
+  if (covered_) return localEvalCovered(wo, wi, mode);
   // Base lobes under a coat, by the transmittance they take (layer.h): spread over the
   // hemisphere (Lambertian) or near the mirror direction (glossy, conductors, sheen).
   Spectrum f, coated, coatedDirectional;
@@ -119,7 +187,7 @@ Spectrum Bsdf::localEval(const Vec3& wo, const Vec3& wi, TransportMode mode) con
 }
 
 float Bsdf::localPdf(const Vec3& wo, const Vec3& wi, TransportMode mode, int lane) const {
-  float weights[kMaxLobes + 1];
+  float weights[kMaxLobes + 2];
   const float total = componentWeights(wo, weights);
   return localPdf(wo, wi, mode, lane, weights, total);
 }
@@ -135,6 +203,8 @@ float Bsdf::localPdf(const Vec3& wo, const Vec3& wi, TransportMode mode, int lan
                                                              : lobePdfForLane(lobe, wo, wi, mode, lane));
   }
   if (weights[count_] > 0.0f) pdfW += weights[count_] * coatPdf(coat_, wo, wi);
+  if (covered_ && weights[count_ + 1] > 0.0f)
+    pdfW += weights[count_ + 1] * coatPdf(covers_.c.clearcoat, toClearcoat(wo), toClearcoat(wi));
   return pdfW / total;
 }
 
@@ -167,6 +237,10 @@ void Bsdf::immerse(const Spectrum& outside, bool outsideVaries) {
                             (!lobeIsSpecular(lobe.kind) && lobe.etaVaries && lobe.kind != LobeKind::RoughThinDielectric);
   }
   if (hasCoat_) immerseLobe(coat_, outside, outsideVaries);
+  if (hasClearcoat()) {
+    immerseLobe(covers_.c.clearcoat, outside, outsideVaries);
+    updateTwoCoatAverage();
+  }
 }
 
 Spectrum Bsdf::straightThrough(const Vec3& wWorld) const {
@@ -175,6 +249,16 @@ Spectrum Bsdf::straightThrough(const Vec3& wWorld) const {
   for (int i = 0; i < count_; ++i) {
     const Lobe& lobe = storage_.lobes[i];
     if (lobe.kind == LobeKind::ThinDielectric && !(hasCoat_ && lobe.underCoat)) t += thinDielectricStraightThrough(lobe, cosTheta);
+  }
+  if (covered_ && !t.isBlack()) {
+    // What passes straight through crosses the covers too (their directional factors).
+    const Covers& c = covers_.c;
+    const float cosAbs = std::fabs(cosTheta);
+    if (c.hasSheenCover) t *= sheenCoverFactor(c.sheenColour, c.sheenAlpha, cosAbs, cosAbs);
+    if (c.hasClearcoat) {
+      const float cosCoat = std::fabs(toClearcoat(frame_.toLocal(wWorld)).z);
+      t *= coveredTransmittanceDirectional(c.clearcoat, c.clearcoatCoverage, cosCoat, cosCoat);
+    }
   }
   return t;
 }
@@ -212,7 +296,8 @@ float Bsdf::pdfForLane(const Vec3& woWorld, const Vec3& wiWorld, TransportMode m
 int Bsdf::chooseComponent(const Vec3& wo, float uc, float* weights, float& total, float& ucLobe) const {
   total = componentWeights(wo, weights);
   if (!(total > 0.0f)) return -1;
-  const int components = count_ + 1;  // the last one is the coat (weight 0 without one)
+  // The coat (weight 0 without one) after the lobes, and with covers the clearcoat last.
+  const int components = count_ + (covered_ ? 2 : 1);
 
   // Pick a component with uc and stretch uc's sub-interval back to [0,1) for its own choice.
   const float target = uc * total;
@@ -238,16 +323,18 @@ int Bsdf::chooseComponent(const Vec3& wo, float uc, float* weights, float& total
 std::optional<BsdfSample> Bsdf::sample(const Vec3& woWorld, float uc, Vec2 u2, TransportMode mode) const {
   const Vec3 wo = frame_.toLocal(woWorld);
   const float woNg = dot3(woWorld, ng_);
-  float weights[kMaxLobes + 1];
+  float weights[kMaxLobes + 2];
   float total = 0.0f, ucLobe = 0.0f;
   const int chosen = degenerate(wo.z) || degenerate(woNg) ? -1 : chooseComponent(wo, uc, weights, total, ucLobe);
   const bool coatChosen = chosen == count_;
+  const bool clearcoatChosen = chosen == count_ + 1;
   // Every return names s, so s is the caller's object and the lobe writes its sample there:
   // a local copy returned at the end was read back in 16-byte pieces over the lobe's narrower
   // stores (a store-forwarding stall).
   // The Lambertian lobe inline (lambertian.h), the others through lobeSample's dispatch.
   std::optional<BsdfSample> s = chosen < 0  ? std::optional<BsdfSample>()
                                 : coatChosen ? coatSample(coat_, wo, u2)
+                                : clearcoatChosen ? clearcoatSample(wo, u2)
                                 : storage_.lobes[chosen].kind == LobeKind::Lambertian
                                     ? lambertianSample(storage_.lobes[chosen], wo, u2)
                                     : lobeSample(storage_.lobes[chosen], wo, ucLobe, u2, mode);
@@ -263,9 +350,14 @@ std::optional<BsdfSample> Bsdf::sample(const Vec3& woWorld, float uc, Vec2 u2, T
   if (s->specular) {
     s->pdfW *= weights[chosen] / total;  // the Dirac lobe's own f; the others have no mass on its direction
     // A Dirac base lobe under a coat (a mirror, glass) takes the directional transmittance.
-    if (!coatChosen && hasCoat_ && storage_.lobes[chosen].underCoat) s->f *= coatTransmittanceDirectional(coat_, wo, wi);
-    // The lobes straightThrough sums (it leaves out walls under a coat).
-    s->straight = s->transmission && !coatChosen && storage_.lobes[chosen].kind == LobeKind::ThinDielectric &&
+    if (covered_) {
+      if (!clearcoatChosen) s->f *= coverFactorOfSpecular(chosen, wo, wi);
+    } else if (!coatChosen && hasCoat_ && storage_.lobes[chosen].underCoat) {
+      s->f *= coatTransmittanceDirectional(coat_, wo, wi);
+    }
+    // The lobes straightThrough sums (it leaves out walls under a coat; the covers' factors
+    // are in both).
+    s->straight = s->transmission && !coatChosen && !clearcoatChosen && storage_.lobes[chosen].kind == LobeKind::ThinDielectric &&
                   !(hasCoat_ && storage_.lobes[chosen].underCoat);
   } else {
     // The direction could have come from any non-specular component: the mixture's f and pdf.

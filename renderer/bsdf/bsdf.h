@@ -122,7 +122,24 @@ class Bsdf {
   // 1 - F_hero(cos_o) of theirs. One coat per Bsdf: returns false for a second coat or
   // another kind. Lobes flagged underCoat without a coat are not attenuated.
   bool setCoat(const Lobe& coat);
+  // setCoat for a coat present on a fraction `coverage` (per lane, in [0, 1]) of the surface
+  // (covers.h: the base lobes take (1 - k) + k T; the coat's weight should carry k): glTF's
+  // KHR_materials_specular factor, `layer(scale_material(dielectric(..), k), base)`.
+  bool setPartialCoat(const Lobe& coat, const Spectrum& coverage);
   bool hasCoat() const { return hasCoat_; }
+  // Layers over every lobe and the coat (covers.h; glTF's clearcoat and sheen over a layered
+  // base). setClearcoat: a SmoothDielectric or RoughDielectric interface (eta = a, alpha =
+  // roughness; weight scales its reflection and should carry the coverage) on a fraction
+  // `coverage` of the surface; false for a second one or another kind. It shades in the Bsdf's
+  // frame unless setClearcoatFrame gives its own (glTF's clearcoatNormalTexture).
+  bool setClearcoat(const Lobe& interface, const Spectrum& coverage);
+  void setClearcoatFrame(const Frame& worldFrame);
+  bool hasClearcoat() const { return covered_ && covers_.c.hasClearcoat; }
+  const Lobe& clearcoat() const { return covers_.c.clearcoat; }
+  // A sheen cover: every lobe but the Sheen lobes (the sheen itself, added as a lobe) and the
+  // coat are scaled by what a sheen of this colour (per lane) and alpha does not reflect.
+  bool setSheenCover(const Spectrum& colour, float alpha);
+  bool hasSheenCover() const { return covered_ && covers_.c.hasSheenCover; }
   // Replaces this Bsdf's lobes and coat by `other`'s, keeping its own frame and normal: a
   // Bsdf without lobes then behaves as if `other`'s had been added to it (replaying a memoised
   // material evaluation, renderer/material/material_memo.h). Storage past the lobe count, and
@@ -132,7 +149,7 @@ class Bsdf {
   int lobeCount() const { return count_; }
   const Lobe& lobe(int i) const { return storage_.lobes[i]; }
   // No lobe and no coat (a coat over a black base, whose lobe was dropped, still reflects).
-  bool empty() const { return count_ == 0 && !hasCoat_; }
+  bool empty() const { return count_ == 0 && !hasCoat_ && !hasClearcoat(); }
   bool hasNonSpecular() const { return hasNonSpecular_; }
   // A non-specular lobe whose density differs between the group's lanes (rough or glossy
   // dispersive: etaVaries).
@@ -180,7 +197,19 @@ class Bsdf {
   // and total of componentWeights and uc stretched to the chosen component's interval.
   inline int chooseComponent(const Vec3& wo, float uc, float* weights, float& total, float& ucLobe) const;
   // One Lambertian lobe and no coat: the mixture's f and pdf are the lobe's own.
-  bool isLoneLambertian() const { return count_ == 1 && !hasCoat_ && storage_.lobes[0].kind == LobeKind::Lambertian; }
+  bool isLoneLambertian() const {
+    return count_ == 1 && !hasCoat_ && !covered_ && storage_.lobes[0].kind == LobeKind::Lambertian;
+  }
+  // The covered counterparts (covers.h), used when covered_: the paths above stay as they were.
+  Spectrum localEvalCovered(const Vec3& wo, const Vec3& wi, TransportMode mode) const;
+  float componentWeightsCovered(const Vec3& wo, float* weights) const;
+  // The factor of a specular sample of component `chosen` (a lobe, or count_: the coat).
+  Spectrum coverFactorOfSpecular(int chosen, const Vec3& wo, const Vec3& wi) const;
+  std::optional<BsdfSample> clearcoatSample(const Vec3& wo, Vec2 u2) const;
+  Vec3 toClearcoat(const Vec3& local) const;
+  Vec3 fromClearcoat(const Vec3& clearcoatLocal) const;
+  void startCovers();
+  void updateTwoCoatAverage();
   // Sum of the non-specular lobes' values (base lobes attenuated by the coat) and the coat's.
   inline Spectrum localEval(const Vec3& wo, const Vec3& wi, TransportMode mode) const;
   // Selection-weighted density of the non-specular components (lane: which eta is the hero),
@@ -204,6 +233,26 @@ class Bsdf {
   float coatSelection_ = 0;
   bool hasNonSpecular_ = false;
   bool hasDispersiveDensity_ = false;  // a non-specular lobe with etaVaries
+  // The layers over the whole mixture (covers.h). Left unconstructed unless covered_ (as the
+  // lobes are: most Bsdfs have none, and are built at every hit).
+  struct Covers {
+    Spectrum coatCoverage;  // k of the coat (1 without setPartialCoat)
+    bool hasClearcoat;
+    Lobe clearcoat;
+    Spectrum clearcoatCoverage;
+    float clearcoatSelection;
+    bool clearcoatOwnFrame;
+    Frame clearcoatFrame;     // in the Bsdf's local coordinates
+    Spectrum twoCoatAverage;  // twoCoatAverageTransmission, with a coat and a clearcoat
+    bool hasSheenCover;
+    Spectrum sheenColour;
+    float sheenAlpha;
+  };
+  union CoverStorage {
+    CoverStorage() {}
+    Covers c;
+  } covers_;
+  bool covered_ = false;
 };
 
 }  // namespace tex::render

@@ -40,6 +40,9 @@ struct Walker {
   Spectrum& emission;
   ClosureEvaluation result;
   bool underCoat = false;  // inside the base of a layer whose coat the Bsdf holds
+  // A cover (a clearcoat or a sheen cover, Bsdf::setClearcoat, setSheenCover) covers every lobe
+  // of the Bsdf: once one's base is walked, nothing may be added beside it.
+  bool coverClosed = false;
   // Inside the base of a layer whose coat is a sheen: its colour (per lane, in [0, 1]) and alpha.
   // (A pointer to the Layer case's own spectrum: a Spectrum member, 32-byte aligned, padded the
   // Walker to 96 bytes that its constructor cleared with a rep stos at every shading point.)
@@ -83,6 +86,10 @@ struct Walker {
       return;
     }
     if (lobe.weight.isBlack()) return;
+    if (coverClosed) {
+      result.ok = false;  // a lobe beside a clearcoat or sheen cover, which covers every lobe
+      return;
+    }
     lobe.underCoat = underCoat;
     if (!bsdf->add(lobe)) result.ok = false;
   }
@@ -137,6 +144,55 @@ struct Walker {
            kind == compiler::ClosureKind::Mix || kind == compiler::ClosureKind::Scale ||
            kind == compiler::ClosureKind::Add;
   }
+
+  // Whether the subtree at `index` holds a node for which `pred` holds (a bounded search: trees
+  // are at most kArenaCapacity nodes, shared nodes are searched again within the budget).
+  template <class Pred>
+  bool subtreeHas(int32_t index, Pred pred, int depth = 0) const {
+    if (index < 0 || index >= nodeCount || depth > kArenaCapacity) return false;
+    const compiler::ClosureNode& node = nodes[index];
+    if (pred(node)) return true;
+    switch (node.kind) {
+      case compiler::ClosureKind::Mix:
+      case compiler::ClosureKind::Add:
+      case compiler::ClosureKind::Layer: return subtreeHas(node.a, pred, depth + 1) || subtreeHas(node.b, pred, depth + 1);
+      case compiler::ClosureKind::Scale: return subtreeHas(node.a, pred, depth + 1);
+      default: return false;
+    }
+  }
+
+  // A layer's coat, looking through a scale_material: the dielectric node (-1: another kind) and
+  // the scale's weight as a coverage in [0, 1] per lane (`partial`: there was a scale).
+  int32_t coatInterface(int32_t c, Spectrum& coverage, bool& partial) const {
+    partial = false;
+    if (c < 0 || c >= nodeCount) return -1;
+    if (nodes[c].kind == compiler::ClosureKind::Scale) {
+      const compiler::ClosureNode& scale = nodes[c];
+      coverage = clampZero(param(scale, ParamUse::Reflectance));
+      for (int i = 0; i < kLanes; ++i) coverage.v[i] = std::min(coverage.v[i], 1.0f);
+      // Lanes past the group hold lane 0's value: the covers' per-lane work can then share it.
+      for (int i = lambda.count; i < kLanes; ++i) coverage.v[i] = coverage.v[0];
+      partial = true;
+      c = scale.a;
+      if (c < 0 || c >= nodeCount) return -1;
+    }
+    const bool dielectric = nodes[c].kind == compiler::ClosureKind::Dielectric ||
+                            nodes[c].kind == compiler::ClosureKind::GlossyDielectric;
+    return dielectric ? c : -1;
+  }
+
+  // Whether a sheen layer is a cover (covers.h): its base holds more than diffuse materials.
+  bool sheenIsACover(const compiler::ClosureNode& layer) const {
+    return subtreeHas(layer.b, [](const compiler::ClosureNode& n) { return !allowedUnderSheen(n.kind); });
+  }
+  // Whether a layer takes the Bsdf's coat or a cover: all but sheens over diffuse bases.
+  bool needsTheCoat(const compiler::ClosureNode& layer) const {
+    const bool sheen = layer.a >= 0 && layer.a < nodeCount && nodes[layer.a].kind == compiler::ClosureKind::Sheen;
+    return !sheen || sheenIsACover(layer);
+  }
+
+  // Whether a cover may start here: it must hold every lobe the Bsdf will have.
+  bool coverMayStart() const { return !underCoat && !underSheen && !coverClosed && bsdf->lobeCount() == 0 && !bsdf->hasCoat(); }
 
   // Nodes may be shared (`add_material(m, m)` refers to m twice), so a tree of 64 nodes can
   // stand for 2^63 paths through it: the walk visits at most kVisitBudget nodes, far more than
@@ -259,9 +315,29 @@ struct Walker {
         }
         const int32_t c = node.a;
         if (c >= 0 && c < nodeCount && nodes[c].kind == compiler::ClosureKind::Sheen) {
+          const compiler::ClosureNode& sheenNode = nodes[c];
+          if (sheenIsACover(node)) {
+            // A sheen over other bases (glTF's sheen over its layered material): a cover,
+            // scaling every lobe below by what the sheen does not reflect (covers.h).
+            // Every lobe of the Bsdf but the sheen is scaled: one sheen, over all of them.
+            if (!coverMayStart() ||
+                subtreeHas(node.b, [](const compiler::ClosureNode& n) { return n.kind == compiler::ClosureKind::Sheen; })) {
+              result.ok = false;
+              return;
+            }
+            walk(c, weight, depth + 1);
+            Spectrum colour = sheenReflectance(sheenNode);
+            for (int i = 0; i < kLanes; ++i) colour.v[i] = std::min(colour.v[i], 1.0f);
+            if (!bsdf->setSheenCover(colour, sheenRoughnessOf(sheenNode))) {
+              result.ok = false;
+              return;
+            }
+            walk(node.b, weight, depth + 1);
+            coverClosed = true;
+            return;
+          }
           // A sheen over Lambertian bases: the sheen lobe, and the bases scaled by what it
           // does not reflect (LambertianUnderSheen, sheen_lobe.h). Not nested.
-          const compiler::ClosureNode& sheenNode = nodes[c];
           walk(c, weight, depth + 1);
           underSheen = true;
           Spectrum colour = sheenReflectance(sheenNode);
@@ -273,16 +349,22 @@ struct Walker {
           sheenColour = nullptr;
           return;
         }
-        // The coat must be a dielectric interface (smooth or rough); the base's lobes are
-        // attenuated by its Fresnel transmission (Bsdf::setCoat, docs/layering.md).
-        const bool dielectricCoat = c >= 0 && c < nodeCount &&
-                                    (nodes[c].kind == compiler::ClosureKind::Dielectric ||
-                                     nodes[c].kind == compiler::ClosureKind::GlossyDielectric);
-        if (!dielectricCoat || underCoat) {
-          result.ok = false;  // coats of other kinds, or nested coats, are not supported yet
+        // The coat must be a dielectric interface (smooth or rough), or one scaled by a
+        // coverage (scale_material); the base's lobes are attenuated by its Fresnel
+        // transmission (Bsdf::setCoat, docs/layering.md).
+        Spectrum coverage(1.0f);
+        bool partial = false;
+        const int32_t interfaceNode = coatInterface(c, coverage, partial);
+        // A coat over a base that needs the Bsdf's coat itself (a dielectric layer, or a sheen
+        // cover) is a clearcoat, over everything (covers.h).
+        const bool clearcoat = interfaceNode >= 0 && subtreeHas(node.b, [this](const compiler::ClosureNode& n) {
+                                 return n.kind == compiler::ClosureKind::Layer && needsTheCoat(n);
+                               });
+        if (interfaceNode < 0 || underCoat || (clearcoat && !coverMayStart())) {
+          result.ok = false;  // coats of other kinds, or nested coats not over everything, are not supported
           return;
         }
-        const compiler::ClosureNode& coatNode = nodes[c];
+        const compiler::ClosureNode& coatNode = nodes[interfaceNode];
         Lobe coat;
         // A glossy-model coat is layered as the GGX coat of matching width (alpha =
         // sqrt(2 / (n + 2)), the usual Phong-to-Beckmann/GGX correspondence): the layering's
@@ -292,11 +374,20 @@ struct Walker {
                                     : roughnessOf(coatNode);
         coat.kind = roughness > 0.0f ? LobeKind::RoughDielectric : LobeKind::SmoothDielectric;
         coat.roughness = roughness;
-        coat.weight = weight;
+        coat.weight = partial ? weight * coverage : weight;
         // The coat reflects, so its direction never depends on the IOR; a varying IOR still
         // gives each lane its own Fresnel reflectance and transmittance (layer.cpp).
         iorLanes(coatNode, coat);
-        if (!bsdf->setCoat(coat)) {
+        if (clearcoat) {
+          if (!bsdf->setClearcoat(coat, coverage)) {
+            result.ok = false;
+            return;
+          }
+          walk(node.b, weight, depth + 1);
+          coverClosed = true;
+          return;
+        }
+        if (coverClosed || !(partial ? bsdf->setPartialCoat(coat, coverage) : bsdf->setCoat(coat))) {
           result.ok = false;
           return;
         }

@@ -17,8 +17,10 @@ Vec3 baseColorAt(const SceneDescription& scene, const GltfMaterial& m, const Sha
 }
 
 
-// emissiveFactor x strength x the sRGB-decoded emissive texture (no lookup when black).
+// emissiveFactor x strength x the sRGB-decoded emissive texture (no lookup when black); an unlit
+// material's (KHR_materials_unlit) is its base colour, clamped to [0, 1] as a reflectance is.
 Vec3 emissionRgb(const SceneDescription& scene, const GltfMaterial& m, const ShadingPoint& point) {
+  if (m.unlit) return glm::clamp(baseColorAt(scene, m, point), Vec3(0.0f), Vec3(1.0f));
   const Vec3 e = m.emissiveFactor * m.emissiveStrength;
   return e == Vec3(0.0f) ? e : e * Vec3(lookupTexture(scene, m.emissiveTexture, point.uv, point.uv1, true));
 }
@@ -39,10 +41,12 @@ void turnTangentWithTextureTransform(const TextureRef& ref, Vec3 n, Vec3& t, flo
   if (su * sv < 0.0f) w = -w;
 }
 
-Vec3 normalMappedNormal(const SceneDescription& scene, const GltfMaterial& m, const ShadingPoint& point, Vec3& tangentOut) {
+// The shading normal perturbed by a normal texture `map` of scale `scale` (glTF 2.0 3.9.3).
+Vec3 normalMappedNormal(const SceneDescription& scene, const TextureRef& map, float scale, const ShadingPoint& point,
+                        Vec3& tangentOut) {
   const Vec3 n = point.ns;
   tangentOut = point.dpdu;
-  if (m.normalTexture.image < 0) return n;
+  if (map.image < 0) return n;
   // Tangent frame (glTF: bitangent = cross(normal, tangent) * w). Without a TANGENT attribute,
   // the tangent follows increasing u and the bitangent decreasing v (glTF's uv origin is the
   // image's top-left corner, and normal maps have +Y up).
@@ -56,10 +60,10 @@ Vec3 normalMappedNormal(const SceneDescription& scene, const GltfMaterial& m, co
   const float tl = glm::length(t);
   if (!(tl > 1e-8f)) return n;
   t /= tl;
-  turnTangentWithTextureTransform(m.normalTexture, n, t, w);
+  turnTangentWithTextureTransform(map, n, t, w);
   const Vec3 b = glm::cross(n, t) * w;
-  const Vec4 texel = lookupTexture(scene, m.normalTexture, point.uv, point.uv1, false, Vec4(0.5f, 0.5f, 1.0f, 1.0f));
-  const Vec3 local = Vec3((texel.x * 2.0f - 1.0f) * m.normalScale, (texel.y * 2.0f - 1.0f) * m.normalScale, texel.z * 2.0f - 1.0f);
+  const Vec4 texel = lookupTexture(scene, map, point.uv, point.uv1, false, Vec4(0.5f, 0.5f, 1.0f, 1.0f));
+  const Vec3 local = Vec3((texel.x * 2.0f - 1.0f) * scale, (texel.y * 2.0f - 1.0f) * scale, texel.z * 2.0f - 1.0f);
   Vec3 mapped = t * local.x + b * local.y + n * local.z;
   const float ml = glm::length(mapped);
   if (!(ml > 1e-8f) || !std::isfinite(ml)) return n;
@@ -78,7 +82,9 @@ Spectrum gltfEmission(const SceneDescription& scene, const GltfMaterial& m, cons
 
 bool gltfReadsHit(const SceneDescription& scene, const GltfMaterial& m) {
   for (const TextureRef* t : {&m.baseColorTexture, &m.metallicRoughnessTexture, &m.transmissionTexture,
-                              &m.emissiveTexture, &m.normalTexture})
+                              &m.emissiveTexture, &m.normalTexture, &m.clearcoatTexture, &m.clearcoatRoughnessTexture,
+                              &m.clearcoatNormalTexture, &m.sheenColorTexture, &m.sheenRoughnessTexture,
+                              &m.specularTexture, &m.specularColorTexture})
     if (textureHasImage(scene, *t)) return true;
   return false;
 }
@@ -86,8 +92,16 @@ bool gltfReadsHit(const SceneDescription& scene, const GltfMaterial& m) {
 void applyGltfNormalMap(const SceneDescription& scene, const GltfMaterial& m, const ShadingPoint& point, Bsdf& bsdf) {
   if (m.normalTexture.image < 0) return;
   Vec3 tangent;
-  const Vec3 n = normalMappedNormal(scene, m, point, tangent);
+  const Vec3 n = normalMappedNormal(scene, m.normalTexture, m.normalScale, point, tangent);
   bsdf = Bsdf(Frame::fromNormalTangent(n, tangent), bsdf.geometricNormal());
+}
+
+void applyGltfClearcoatNormal(const SceneDescription& scene, const GltfMaterial& m, const ShadingPoint& point,
+                              Bsdf& bsdf) {
+  if (!bsdf.hasClearcoat() || (m.normalTexture.image < 0 && m.clearcoatNormalTexture.image < 0)) return;
+  Vec3 tangent;
+  const Vec3 n = normalMappedNormal(scene, m.clearcoatNormalTexture, m.clearcoatNormalScale, point, tangent);
+  bsdf.setClearcoatFrame(Frame::fromNormalTangent(n, tangent));
 }
 
 GltfInputs gltfInputs(const SceneDescription& scene, const GltfMaterial& m, const ShadingPoint& point) {
@@ -102,6 +116,20 @@ GltfInputs gltfInputs(const SceneDescription& scene, const GltfMaterial& m, cons
   in.dispersion = m.dispersion;
   in.thinWalled = m.thinWalled ? 1.0f : 0.0f;
   in.emission = emissionRgb(scene, m, point);
+  // The layers, each looked up only when its factor can make a difference.
+  const auto channel = [&](const TextureRef& t, int c) { return lookupTexture(scene, t, point.uv, point.uv1, false)[c]; };
+  if (m.clearcoatFactor > 0.0f) {
+    in.clearcoat = std::clamp(m.clearcoatFactor * channel(m.clearcoatTexture, 0), 0.0f, 1.0f);
+    in.clearcoatRoughness = std::clamp(m.clearcoatRoughnessFactor * channel(m.clearcoatRoughnessTexture, 1), 0.0f, 1.0f);
+  }
+  if (m.sheenColorFactor != Vec3(0.0f)) {
+    const Vec3 colour = m.sheenColorFactor * Vec3(lookupTexture(scene, m.sheenColorTexture, point.uv, point.uv1, true));
+    in.sheenColor = glm::clamp(colour, Vec3(0.0f), Vec3(1.0f));
+    in.sheenRoughness = std::clamp(m.sheenRoughnessFactor * channel(m.sheenRoughnessTexture, 3), 0.0f, 1.0f);
+  }
+  in.specular = std::clamp(m.specularFactor * channel(m.specularTexture, 3), 0.0f, 1.0f);
+  in.specularColor = glm::max(m.specularColorFactor * Vec3(lookupTexture(scene, m.specularColorTexture, point.uv, point.uv1, true)),
+                              Vec3(0.0f));
   return in;
 }
 

@@ -9,16 +9,24 @@
 
 namespace tex::render {
 
-// The arguments of std.gltf.metallic_roughness at a point (in its parameter order).
+// The arguments of std.gltf.metallic_roughness_layers at a point (in its parameter order).
 struct GltfInputs {
   Vec3 baseColor{1.0f};  // baseColorFactor x sRGB-decoded texture x COLOR_0, clamped to [0, 1]
   float metallic = 0, roughness = 1, transmission = 0, ior = 1.5f, dispersion = 0;
   float thinWalled = 0;  // 1: GltfMaterial::thinWalled
   Vec3 emission{0.0f};   // emissiveFactor x strength x sRGB-decoded texture
+  // The layers' factors times their textures, clamped to their ranges.
+  float clearcoat = 0, clearcoatRoughness = 0;  // KHR_materials_clearcoat (R, G)
+  Vec3 sheenColor{0.0f};                        // KHR_materials_sheen (sRGB-decoded RGB)
+  float sheenRoughness = 0;                     // (A)
+  float specular = 1;                           // KHR_materials_specular (A)
+  Vec3 specularColor{1.0f};                     // (sRGB-decoded RGB; may exceed 1)
   // The entry's arguments after the Hit, in std.gltf's order (tex_binding.h, CompiledGltf).
-  std::array<float, 12> words() const {
-    return {baseColor.x, baseColor.y, baseColor.z, metallic, roughness, transmission, ior, dispersion, thinWalled,
-            emission.x, emission.y, emission.z};
+  std::array<float, 22> words() const {
+    return {baseColor.x,     baseColor.y,     baseColor.z,     metallic,        roughness,          transmission,
+            ior,             dispersion,      thinWalled,      emission.x,      emission.y,         emission.z,
+            clearcoat,       clearcoatRoughness, sheenColor.x, sheenColor.y,    sheenColor.z,       sheenRoughness,
+            specular,        specularColor.x, specularColor.y, specularColor.z};
   }
 };
 GltfInputs gltfInputs(const SceneDescription& scene, const GltfMaterial& material, const ShadingPoint& point);
@@ -36,9 +44,16 @@ float gltfDispersiveIor(float ior, float dispersion, float lambdaNm);
 // Replaces the Bsdf's shading frame by the normal map's (no-op without a normal texture).
 void applyGltfNormalMap(const SceneDescription& scene, const GltfMaterial& material, const ShadingPoint& point,
                         Bsdf& bsdf);
+// Gives a Bsdf with a clearcoat its own frame where it differs from the Bsdf's: the
+// clearcoatNormalTexture's, or the unmapped shading normal under a base normal map (the
+// clearcoat does not follow the base's normal map; KHR_materials_clearcoat).
+void applyGltfClearcoatNormal(const SceneDescription& scene, const GltfMaterial& material, const ShadingPoint& point,
+                              Bsdf& bsdf);
 
 // Emitted radiance (emissive factor x strength x texture, upsampled as an illuminant): what
-// std.gltf's emission closure gives, evaluated natively for area lights.
+// std.gltf's emission closure gives, evaluated natively for area lights. An unlit material
+// (KHR_materials_unlit) emits its base colour instead and scatters nothing
+// (docs/gltf-extensions.md).
 Spectrum gltfEmission(const SceneDescription& scene, const GltfMaterial& material, const ShadingPoint& point,
                       const Wavelengths& lambda);
 

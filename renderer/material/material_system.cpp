@@ -68,11 +68,17 @@ bool evaluate(const MaterialSystem::Impl& im, int s, const ShadingPoint& point, 
 // A glTF material: its factors and textures read here, its scattering from std.gltf.
 bool evaluateGltf(const MaterialSystem::Impl& im, const GltfMaterial& m, const ShadingPoint& point,
                   const Wavelengths& lambda, Bsdf& bsdf, Spectrum& emission) {
+  if (m.unlit) {  // no lobes: an emitter of its base colour that absorbs what arrives
+    emission = gltfEmission(*im.scene, m, point, lambda);
+    return true;
+  }
   applyGltfNormalMap(*im.scene, m, point, bsdf);
   const GltfInputs in = gltfInputs(*im.scene, m, point);
   const auto args = in.words();
   static_assert(args.size() == size_t(kGltfArgumentWords));
-  return evaluateEntry(im.gltfMaterial.entry, args.data(), kGltfArgumentWords, point, lambda, &bsdf, emission).ok;
+  const bool ok = evaluateEntry(im.gltfMaterial.entry, args.data(), kGltfArgumentWords, point, lambda, &bsdf, emission).ok;
+  applyGltfClearcoatNormal(*im.scene, m, point, bsdf);
+  return ok;
 }
 
 }  // namespace
@@ -168,7 +174,7 @@ std::unique_ptr<MaterialSystem> MaterialSystem::create(const SceneDescription& s
           sawEmission = sawEmission || ev.sawEmission;
         } else if (s < scene.materials.size()) {
           const GltfMaterial& gm = scene.materials[s];
-          sawEmission = sawEmission || gm.emissiveFactor * gm.emissiveStrength != Vec3(0.0f);
+          sawEmission = sawEmission || gm.unlit || gm.emissiveFactor * gm.emissiveStrength != Vec3(0.0f);
           e = gltfEmission(scene, gm, point, probe);
         }
         sum += std::max(e.average(probe.count), 0.0f);

@@ -129,16 +129,20 @@ bool compileGltfMaterial(int wavelengths, bool quick, bool useCache, CompiledGlt
   const auto start = std::chrono::steady_clock::now();
   lang::Session session;
   lang::ModuleInfo* module = session.loadSource(
-      "<gltf material>", "import std.gltf.{metallic_roughness_walls}\n"
+      "<gltf material>", "import std.gltf.{metallic_roughness_layers}\n"
                          "export fn gltf_material(h: Hit, base: Color, metallic: Float, roughness: Float, "
-                         "transmission: Float, ior: Float, dispersion: Float, thin_walled: Float, emission_rgb: Color) -> Material =\n"
-                         "  metallic_roughness_walls(h, base, metallic, roughness, transmission, ior, dispersion, thin_walled > 0.5, emission_rgb)\n");
+                         "transmission: Float, ior: Float, dispersion: Float, thin_walled: Float, emission_rgb: Color, "
+                         "clearcoat: Float, clearcoat_roughness: Float, sheen_color: Color, sheen_roughness: Float, "
+                         "specular: Float, specular_color: Color) -> Material =\n"
+                         "  metallic_roughness_layers(h, base, metallic, roughness, transmission, ior, dispersion, thin_walled > 0.5, "
+                         "emission_rgb, clearcoat, clearcoat_roughness, sheen_color, sheen_roughness, specular, specular_color)\n");
   auto& types = lang::TypeTable::global();
   int fn = -1;
   if (module && !session.diags().hasErrors())
     fn = session.instantiate(module, "gltf_material",
                              {types.hit(), types.color(), types.floating(), types.floating(), types.floating(),
-                              types.floating(), types.floating(), types.floating(), types.color()},
+                              types.floating(), types.floating(), types.floating(), types.color(), types.floating(),
+                              types.floating(), types.color(), types.floating(), types.floating(), types.color()},
                              {});
   const compiler::CompileOptions options = materialCompileOptions(wavelengths, quick, useCache);
   if (fn >= 0 && !session.diags().hasErrors()) out.module = compiler::compile(session.program(), {fn}, options, session.diags());

@@ -31,7 +31,8 @@ namespace {
 const std::set<std::string> kSupportedExtensions = {
     "KHR_texture_transform",       "KHR_materials_emissive_strength", "KHR_materials_transmission",
     "KHR_materials_ior",           "KHR_materials_dispersion",        "KHR_materials_volume",
-    "KHR_lights_punctual",         "KHR_mesh_quantization",
+    "KHR_lights_punctual",         "KHR_mesh_quantization",           "KHR_materials_clearcoat",
+    "KHR_materials_sheen",         "KHR_materials_specular",          "KHR_materials_unlit",
 };
 
 constexpr int kMaxNodeDepth = 1024;

@@ -1,6 +1,6 @@
 // glTF materials and texture references. Parameter meanings and defaults: glTF 2.0 section
 // 3.9 and the Khronos extension specifications (KHR_materials_emissive_strength, _transmission,
-// _ior, _dispersion, _volume, KHR_texture_transform).
+// _ior, _dispersion, _volume, _clearcoat, _sheen, _specular, _unlit, KHR_texture_transform).
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -143,6 +143,58 @@ TextureRef textureRefFromValue(GltfImport& import, const tinygltf::Value& object
                     extensions, where + " " + key);
 }
 
+// A colour factor of three numbers in [0, 1] (sheenColorFactor): out of range clamped, with a
+// warning; absent or malformed (warned) leaves `out` as it was.
+void colourFactorInto(GltfImport& import, const std::string& at, const tinygltf::Value& ext, const char* key, float hi,
+                      Vec3& out) {
+  if (!numbersInto(import, at, ext, key, 3, &out.x)) return;
+  for (int c = 0; c < 3; ++c)
+    out[c] = clampedFactor(import, at, (std::string(key) + " component").c_str(), out[c], 0.0f, hi);
+}
+
+// A textureInfo with a normal map's scale (clearcoatNormalTexture).
+TextureRef normalTextureFromValue(GltfImport& import, const tinygltf::Value& object, const char* key,
+                                  const std::string& where, float& scale) {
+  TextureRef ref = textureRefFromValue(import, object, key, where);
+  if (const tinygltf::Value* info = member(object, key); info && info->IsObject())
+    scale = numberOr(import, where + " " + key, *info, "scale", 1.0f);
+  return ref;
+}
+
+// KHR_materials_clearcoat, _sheen and _specular (the layers over the metallic-roughness base),
+// and KHR_materials_unlit.
+bool readLayerExtension(GltfImport& import, const std::string& name, const tinygltf::Value& ext,
+                        const std::string& where, GltfMaterial& out) {
+  const std::string at = where + " " + name;
+  const float unbounded = std::numeric_limits<float>::max();
+  if (name == "KHR_materials_clearcoat") {
+    out.clearcoatFactor = clampedFactor(import, at, "clearcoatFactor", numberOr(import, at, ext, "clearcoatFactor", 0.0f), 0.0f, 1.0f);
+    out.clearcoatTexture = textureRefFromValue(import, ext, "clearcoatTexture", where);
+    out.clearcoatRoughnessFactor = clampedFactor(import, at, "clearcoatRoughnessFactor",
+                                                 numberOr(import, at, ext, "clearcoatRoughnessFactor", 0.0f), 0.0f, 1.0f);
+    out.clearcoatRoughnessTexture = textureRefFromValue(import, ext, "clearcoatRoughnessTexture", where);
+    out.clearcoatNormalTexture =
+        normalTextureFromValue(import, ext, "clearcoatNormalTexture", where, out.clearcoatNormalScale);
+  } else if (name == "KHR_materials_sheen") {
+    colourFactorInto(import, at, ext, "sheenColorFactor", 1.0f, out.sheenColorFactor);
+    out.sheenColorTexture = textureRefFromValue(import, ext, "sheenColorTexture", where);
+    out.sheenRoughnessFactor = clampedFactor(import, at, "sheenRoughnessFactor",
+                                             numberOr(import, at, ext, "sheenRoughnessFactor", 0.0f), 0.0f, 1.0f);
+    out.sheenRoughnessTexture = textureRefFromValue(import, ext, "sheenRoughnessTexture", where);
+  } else if (name == "KHR_materials_unlit") {
+    out.unlit = true;  // the extension object has no properties
+  } else if (name == "KHR_materials_specular") {
+    out.specularFactor = clampedFactor(import, at, "specularFactor", numberOr(import, at, ext, "specularFactor", 1.0f), 0.0f, 1.0f);
+    out.specularTexture = textureRefFromValue(import, ext, "specularTexture", where);
+    // specularColorFactor may exceed 1 (the spec's range is [0, inf): F0 x colour is clamped to 1).
+    colourFactorInto(import, at, ext, "specularColorFactor", unbounded, out.specularColorFactor);
+    out.specularColorTexture = textureRefFromValue(import, ext, "specularColorTexture", where);
+  } else {
+    return false;
+  }
+  return true;
+}
+
 GltfMaterial convert(GltfImport& import, const tinygltf::Material& m, int index) {
   GltfMaterial out;
   out.name = m.name;
@@ -207,7 +259,7 @@ GltfMaterial convert(GltfImport& import, const tinygltf::Material& m, int index)
       if (numbersInto(import, at, ext, "attenuationColor", 3, &out.attenuationColor.x))
         for (int c = 0; c < 3; ++c)
           out.attenuationColor[c] = clampedFactor(import, at, "attenuationColor component", out.attenuationColor[c], 0.0f, 1.0f);
-    } else {
+    } else if (!readLayerExtension(import, name, ext, where, out)) {
       import.warnOnce("ext/" + name, "material extension " + name + " is not supported; ignored");
     }
   }

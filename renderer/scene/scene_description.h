@@ -83,6 +83,21 @@ struct GltfMaterial {
   TextureRef thicknessTexture;   // KHR_materials_volume (G channel)
   float attenuationDistance = INFINITY;
   Vec3 attenuationColor{1.0f};
+  float clearcoatFactor = 0;              // KHR_materials_clearcoat
+  TextureRef clearcoatTexture;            // (R)
+  float clearcoatRoughnessFactor = 0;
+  TextureRef clearcoatRoughnessTexture;   // (G)
+  TextureRef clearcoatNormalTexture;
+  float clearcoatNormalScale = 1;
+  Vec3 sheenColorFactor{0.0f};            // KHR_materials_sheen
+  TextureRef sheenColorTexture;           // (RGB, sRGB)
+  float sheenRoughnessFactor = 0;
+  TextureRef sheenRoughnessTexture;       // (A)
+  float specularFactor = 1;               // KHR_materials_specular
+  TextureRef specularTexture;             // (A)
+  Vec3 specularColorFactor{1.0f};
+  TextureRef specularColorTexture;        // (RGB, sRGB)
+  bool unlit = false;                     // KHR_materials_unlit: emits its base colour, scatters nothing
   enum class AlphaMode : uint8_t { Opaque, Mask, Blend } alphaMode = AlphaMode::Opaque;
   float alphaCutoff = 0.5f;
   bool doubleSided = false;

@@ -208,13 +208,22 @@ TEST(ClosureLobes, LobeWeightsAreZeroPastTheGroupsLanes) {
 }
 
 TEST(ClosureLobes, UnsupportedLayersFailCleanly) {
-  // A coat must be a dielectric, and one Bsdf holds one coat: these shade black and report it.
+  // A coat must be a dielectric; a Bsdf holds one coat and one clearcoat over everything (a coat
+  // over a layered base), so a third level, or a lobe beside a clearcoat, shades black and is
+  // reported.
   const Compiled c = compileEntries(
       "export fn bad_coat(h: Hit) -> Material = layer(diffuse(spectrum(0.5)), diffuse(spectrum(0.5)))\n"
+      "export fn three(h: Hit) -> Material = layer(dielectric(1.5), layer(dielectric(1.3), layer(dielectric(1.2), diffuse(spectrum(0.5)))))\n"
+      "export fn beside(h: Hit) -> Material = add_material(layer(dielectric(1.5), layer(dielectric(1.3), diffuse(spectrum(0.5)))), diffuse(spectrum(0.2)))\n"
       "export fn nested(h: Hit) -> Material = layer(dielectric(1.5), layer(dielectric(1.3), diffuse(spectrum(0.5))))\n",
-      {"bad_coat", "nested"});
+      {"bad_coat", "three", "beside", "nested"});
   EXPECT_FALSE(shade(c.bindings.bindings[0]).result.ok);
   EXPECT_FALSE(shade(c.bindings.bindings[1]).result.ok);
+  EXPECT_FALSE(shade(c.bindings.bindings[2]).result.ok);
+  const Shaded nested = shade(c.bindings.bindings[3]);
+  EXPECT_TRUE(nested.result.ok);
+  EXPECT_TRUE(nested.bsdf.hasClearcoat());
+  EXPECT_TRUE(nested.bsdf.hasCoat());
 }
 
 // NaN or infinite colours (which the RGB fit would sanitise to 0 or 1) and mix weights (which
@@ -475,14 +484,22 @@ TEST(ClosureLobes, BindingFilesMustBeImportableTexModules) {
   }
 }
 
-TEST(ClosureLobes, SheenOverOtherBasesFailsCleanly) {
-  // Only Lambertian bases are scaled under a sheen; nested coats are not supported either.
+TEST(ClosureLobes, SheenOverOtherBasesIsACoverAndSheenUnderSheenFails) {
+  // A sheen over Lambertian bases scales them (LambertianUnderSheen); over any other base it is
+  // a cover over the whole Bsdf; a sheen under a sheen is not supported.
   const Compiled c = compileEntries(
       "export fn shiny(h: Hit) -> Material = layer(sheen(spectrum(0.5), 0.3), glossy(spectrum(0.5), 10.0))\n"
       "export fn nested(h: Hit) -> Material = layer(sheen(spectrum(0.5), 0.3), layer(dielectric(1.5), diffuse(spectrum(0.5))))\n"
-      "export fn twice(h: Hit) -> Material = layer(sheen(spectrum(0.5), 0.3), add_material(sheen(spectrum(0.5), 0.3), diffuse(spectrum(0.5))))\n",
-      {"shiny", "nested", "twice"});
-  for (const auto& binding : c.bindings.bindings) EXPECT_FALSE(shade(binding).result.ok);
+      "export fn twice(h: Hit) -> Material = layer(sheen(spectrum(0.5), 0.3), add_material(sheen(spectrum(0.5), 0.3), diffuse(spectrum(0.5))))\n"
+      "export fn beside(h: Hit) -> Material = add_material(diffuse(spectrum(0.5)), layer(sheen(spectrum(0.5), 0.3), glossy(spectrum(0.5), 10.0)))\n",
+      {"shiny", "nested", "twice", "beside"});
+  for (int i : {0, 1}) {
+    const Shaded s = shade(c.bindings.bindings[size_t(i)]);
+    EXPECT_TRUE(s.result.ok) << i;
+    EXPECT_TRUE(s.bsdf.hasSheenCover()) << i;
+  }
+  EXPECT_FALSE(shade(c.bindings.bindings[2]).result.ok);
+  EXPECT_FALSE(shade(c.bindings.bindings[3]).result.ok);
 }
 
 }  // namespace
