@@ -7,7 +7,7 @@
 
 namespace tex::render {
 
-AliasTable::AliasTable(std::span<const float> weights) {
+AliasTable::AliasTable(std::span<const float> weights, std::span<const int> labels) {
   double total = 0;
   for (const float w : weights)
     if (w > 0.0f && std::isfinite(w)) total += w;
@@ -40,7 +40,11 @@ AliasTable::AliasTable(std::span<const float> weights) {
       bin.keep = bin.pmf > 0.0f ? 1.0f : 0.0f;
       bin.alias = bin.pmf > 0.0f ? i : anyPositive;
     }
-  for (Bin& bin : bins_) bin.aliasPmf = bins_[size_t(bin.alias)].pmf;
+  for (size_t i = 0; i < n; ++i) bins_[i].label = labels.size() == n ? labels[i] : int(i);
+  for (Bin& bin : bins_) {
+    bin.aliasPmf = bins_[size_t(bin.alias)].pmf;
+    bin.aliasLabel = bins_[size_t(bin.alias)].label;
+  }
 }
 
 }  // namespace tex::render

@@ -13,6 +13,7 @@
 #include <utility>
 #include <vector>
 
+#include "renderer/lights/alias_table.h"
 #include "renderer/lights/light_bounds.h"
 
 namespace tex::render {
@@ -30,33 +31,59 @@ class LightBvh {
   bool empty() const { return nodes_.empty(); }
   // A light chosen at ctx with u in [0, 1), and its probability among the tree's lights;
   // nullopt when no light in the tree can reach ctx (every importance 0).
-  std::optional<std::pair<int, float>> sample(const LightSampleContext& ctx, float u) const;
+  std::optional<std::pair<int, float>> sample(const LightSampleContext& ctx, float u) const {
+    int light;
+    float pmf;
+    if (!choose(ctx, u, light, pmf)) return std::nullopt;
+    return std::make_pair(light, pmf);
+  }
+  // sample() with plain results (false: no light), as AliasTable::choose.
+  bool choose(const LightSampleContext& ctx, float u, int& light, float& pmf) const {
+    if (!flat_.empty()) return flat_.choose(u, light, pmf);
+    return descend(ctx, u, light, pmf);
+  }
   // The probability sample(ctx, .) returns `light` (bit for bit the one it reports); 0 for
   // lights not in the tree.
-  float pmf(const LightSampleContext& ctx, int light) const;
+  float pmf(const LightSampleContext& ctx, int light) const {
+    if (light < 0 || size_t(light) >= inTree_.size() || !inTree_[size_t(light)]) return 0.0f;
+    if (!flat_.empty()) return flat_.pmf(int(trail_[size_t(light)]));
+    return retrace(ctx, light);
+  }
   int nodeCount() const { return int(nodes_.size()); }
   int depth() const { return depth_; }
+  // Whether the lights are one planar emitter (see kFlatMax), chosen by power without a descent.
+  bool flat() const { return !flat_.empty(); }
+  // Up to this many lights with one normal in one plane (a quad or a small polygon light split
+  // into triangles: the Cornell box's) are chosen by power: the importance would differ between
+  // them only by the distance to each, and its cost was 10 % of a Cornell render.
+  static constexpr size_t kFlatMax = 8;
 
-  // 48 bytes: the bounds with the cone's cosines quantised to 16 bits, rounded toward wider.
+  // 48 bytes: what the importance reads, precomputed (the box's bounding sphere, the cone's
+  // sine), so that a level of the descent costs two evaluations and little else.
   struct Node {
-    Vec3 lower{0.0f}, upper{0.0f};
+    Vec3 center{0.0f};
+    float radius = 0;
     Vec3 w{0.0f, 0.0f, 1.0f};
     float phi = 0;
-    uint16_t qCosThetaO = 0, qCosThetaE = 0;
+    float cosThetaO = 1, sinThetaO = 0, cosThetaE = 0;
     uint32_t childOrLight : 30;  // interior: the second child's index (the first is next); leaf: the light
     uint32_t leaf : 1;
     uint32_t twoSided : 1;
   };
 
  private:
+  static bool onePlane(const std::vector<Entry>& entries);
   int build(std::vector<Entry>& entries, size_t begin, size_t end, uint64_t trail, int depth);
-  // Importance of the node at ctx (lightImportance on its dequantised bounds).
-  float importance(const LightSampleContext& ctx, const Node& node) const;
-  // The importances of an interior node's two children.
+  bool descend(const LightSampleContext& ctx, float u, int& light, float& pmf) const;
+  float retrace(const LightSampleContext& ctx, int light) const;
+
+  // The importances of an interior node's two children at ctx (one function for sample() and
+  // pmf(), so that both compute the same numbers).
   void childImportances(const LightSampleContext& ctx, int node, float c[2]) const;
 
   std::vector<Node> nodes_;
-  std::vector<uint64_t> trail_;  // per light: bit k = which child it lies in at depth k
+  std::vector<uint64_t> trail_;  // per light: bit k = which child it lies in at depth k (flat: its entry)
+  AliasTable flat_;  // flat lights: the power distribution over them, labelled by light (else empty)
   std::vector<uint8_t> inTree_;  // per light
   int depth_ = 0;
 };

@@ -9,8 +9,6 @@
 namespace tex::render {
 
 namespace {
-constexpr float kOneMinusEpsilon = 0x1.fffffep-1f;
-
 // Broken (NaN) or dark lights are never chosen. A power that overflowed (a sun over a scene of
 // huge bounds, pi R^2 E) still counts, as the largest float: any positive choice probability
 // is unbiased, and the light is no longer left out (a black image).
@@ -50,24 +48,6 @@ LightSampler::LightSampler(std::span<const Light* const> lights) : lightCount_(i
   const size_t choices = infinite_.size() + (bvh_.empty() ? 0 : 1);
   pInfinite_ = choices > 0 ? float(infinite_.size()) / float(choices) : 0.0f;
   pEachInfinite_ = infinite_.empty() ? 0.0f : pInfinite_ / float(infinite_.size());
-}
-
-std::optional<std::pair<int, float>> LightSampler::sample(const LightSampleContext& ctx, float u) const {
-  if (u < pInfinite_) {
-    const int k = std::min(int(u / pInfinite_ * float(infinite_.size())), int(infinite_.size()) - 1);
-    return std::make_pair(infinite_[size_t(k)], pEachInfinite_);
-  }
-  if (bvh_.empty()) return std::nullopt;
-  const float uTree = pInfinite_ > 0.0f ? std::min((u - pInfinite_) / (1.0f - pInfinite_), kOneMinusEpsilon) : u;
-  std::optional<std::pair<int, float>> chosen = bvh_.sample(ctx, uTree);
-  if (chosen) chosen->second *= 1.0f - pInfinite_;
-  return chosen;
-}
-
-float LightSampler::pmf(const LightSampleContext& ctx, int lightIndex) const {
-  if (lightIndex < 0 || lightIndex >= lightCount_) return 0.0f;
-  if (isInfinite_[size_t(lightIndex)]) return pEachInfinite_;
-  return bvh_.pmf(ctx, lightIndex) * (1.0f - pInfinite_);
 }
 
 }  // namespace tex::render

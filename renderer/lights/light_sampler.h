@@ -10,6 +10,7 @@
 // Both report with the chosen index its probability, and pmf() gives exactly that probability
 // for a light (multiple importance sampling at emitters hit by BSDF sampling relies on it).
 #pragma once
+#include <algorithm>
 #include <optional>
 #include <span>
 #include <string>
@@ -35,8 +36,30 @@ class LightSampler {
 
   // By context: a light and its probability; nullopt when none can be chosen (no light with
   // power, or no bounded light can reach ctx and there is no infinite light). u in [0, 1).
-  std::optional<std::pair<int, float>> sample(const LightSampleContext& ctx, float u) const;
-  float pmf(const LightSampleContext& ctx, int lightIndex) const;
+  // Inline, as the power choice was, so that the optional pair can stay in registers.
+  std::optional<std::pair<int, float>> sample(const LightSampleContext& ctx, float u) const {
+    // One pair built at the end: pairs copied between branches went through memory.
+    int light = -1;
+    float pmf = 0.0f;
+    bool chosen = false;
+    if (u < pInfinite_) {
+      const int k = std::min(int(u / pInfinite_ * float(infinite_.size())), int(infinite_.size()) - 1);
+      light = infinite_[size_t(k)];
+      pmf = pEachInfinite_;
+      chosen = true;
+    } else {
+      const float uTree = pInfinite_ > 0.0f ? std::min((u - pInfinite_) / (1.0f - pInfinite_), 0x1.fffffep-1f) : u;
+      chosen = bvh_.choose(ctx, uTree, light, pmf);
+      pmf *= 1.0f - pInfinite_;
+    }
+    if (!chosen) return std::nullopt;
+    return std::make_pair(light, pmf);
+  }
+  float pmf(const LightSampleContext& ctx, int lightIndex) const {
+    if (lightIndex < 0 || lightIndex >= lightCount_) return 0.0f;
+    if (isInfinite_[size_t(lightIndex)]) return pEachInfinite_;
+    return bvh_.pmf(ctx, lightIndex) * (1.0f - pInfinite_);
+  }
 
   // By power (zero-power lights are never chosen).
   std::optional<std::pair<int, float>> samplePower(float u) const { return power_.sample(u); }

@@ -355,6 +355,43 @@ TEST(LightSampler, UnboundedLightsShareAFixedProbabilityAndALoneBoundedLightIsAl
   EXPECT_NEAR(sampler.pmfPower(0) / sampler.pmfPower(1), set.pointers[0]->power() / set.pointers[1]->power(), 1e-3);
 }
 
+// A quad light (two triangles of one plane; the Cornell box's) is chosen by power, without a
+// descent: the importance could only tell its halves apart by distance. Two quads in different
+// planes, or many triangles, get the tree.
+TEST(LightSampler, APlanarQuadLightIsChosenByPowerAndSeparateLightsAreNot) {
+  const auto quad = [](LightSet& set, const Vec3& corner, float size, float L) {
+    set.emissions.push_back(std::make_unique<ConstantEmission>(L));
+    const Vec3 c[4] = {corner, corner + Vec3(0.0f, 0.0f, size), corner + Vec3(size * 0.7f, 0.0f, size),
+                       corner + Vec3(size * 0.7f, 0.0f, 0.0f)};
+    for (int t = 0; t < 2; ++t) {
+      TriangleLightDesc d;
+      d.p0 = c[0];
+      d.p1 = c[1 + t];
+      d.p2 = c[2 + t];
+      d.normal = Vec3(0.0f, -1.0f, 0.0f);
+      set.add(makeTriangleLight(d, set.emissions.back().get()), LightSet::Shape{});
+    }
+  };
+  LightSet one;
+  quad(one, Vec3(0.213f, 0.5487f, 0.227f), 0.13f, 17.0f);
+  const LightSampler flat(one.pointers);
+  EXPECT_TRUE(flat.bvh().flat());
+  sampling::Pcg32 rng(14, 3);
+  for (int c = 0; c < 50; ++c) {
+    const LightSampleContext ctx = randomContext(rng);
+    EXPECT_EQ(flat.pmf(ctx, 0), flat.pmfPower(0));
+    EXPECT_EQ(flat.pmf(ctx, 1), flat.pmfPower(1));
+    const auto pick = flat.sample(ctx, rng.nextFloat());
+    ASSERT_TRUE(pick);
+    EXPECT_EQ(pick->second, flat.pmf(ctx, pick->first));
+  }
+  LightSet two;
+  quad(two, Vec3(0.0f, 1.0f, 0.0f), 0.2f, 1.0f);
+  quad(two, Vec3(2.0f, 1.5f, 0.0f), 0.2f, 1.0f);  // another height: another plane
+  EXPECT_FALSE(LightSampler(two.pointers).bvh().flat());
+  EXPECT_FALSE(LightSampler(lampGrid(3).pointers).bvh().flat());
+}
+
 // ---- Render level ----
 
 // A 20 x 20 floor (z = 0, a Lambertian of albedo 0.5) under a grid of `side` x `side` small
