@@ -10,7 +10,9 @@
 #include <string>
 #include <vector>
 
+#include "renderer/bsdf/bsdf.h"
 #include "renderer/color/wavelengths.h"
+#include "renderer/integrators/light_context.h"
 #include "renderer/integrators/path_tracer.h"
 #include "renderer/integrators/render_scene.h"
 #include "renderer/lights/alias_table.h"
@@ -390,6 +392,44 @@ TEST(LightSampler, APlanarQuadLightIsChosenByPowerAndSeparateLightsAreNot) {
   quad(two, Vec3(2.0f, 1.5f, 0.0f), 0.2f, 1.0f);  // another height: another plane
   EXPECT_FALSE(LightSampler(two.pointers).bvh().flat());
   EXPECT_FALSE(LightSampler(lampGrid(3).pointers).bvh().flat());
+}
+
+// The context next-event estimation passes: a reflecting BSDF's shading normal turned toward
+// wo (lights behind it cannot contribute), no normal for one that transmits (they can).
+TEST(LightSampler, NextEventContextKeepsLightsBehindTransmittingSurfaces) {
+  const Vec3 n(0.0f, 0.0f, 1.0f), p(1.0f, 2.0f, 3.0f);
+  Bsdf diffuse(Frame::fromNormal(n), n);
+  Lobe lambert;
+  lambert.kind = LobeKind::Lambertian;
+  lambert.weight = Spectrum(0.5f);
+  ASSERT_TRUE(diffuse.add(lambert));
+  EXPECT_EQ(nextEventContext(diffuse, p, Vec3(0.0f, 0.6f, 0.8f)).n, n);
+  EXPECT_EQ(nextEventContext(diffuse, p, Vec3(0.0f, 0.6f, -0.8f)).n, -n);  // seen from behind
+  EXPECT_EQ(nextEventContext(diffuse, p, Vec3(0.0f, 0.6f, 0.8f)).p, p);
+  Bsdf glass(Frame::fromNormal(n), n);
+  Lobe rough;
+  rough.kind = LobeKind::RoughDielectric;
+  rough.weight = Spectrum(1.0f);
+  rough.a = Spectrum(1.5f);
+  rough.roughness = 0.3f;
+  ASSERT_TRUE(glass.add(lambert));
+  ASSERT_TRUE(glass.add(rough));
+  EXPECT_EQ(nextEventContext(glass, p, Vec3(0.0f, 0.6f, 0.8f)).n, Vec3(0.0f));
+  // With that context a light below the surface keeps its share; with the normal it has none.
+  LightSet below;
+  below.emissions.push_back(std::make_unique<ConstantEmission>(1.0f));
+  for (int k = 0; k < 2; ++k) {
+    TriangleLightDesc d;
+    d.p0 = p + Vec3(float(k) * 3.0f, 0.0f, -2.0f);
+    d.p1 = d.p0 + Vec3(0.5f, 0.0f, 0.0f);
+    d.p2 = d.p0 + Vec3(0.0f, 0.5f, float(k));  // two planes: not a flat set
+    d.normal = Vec3(0.0f, 0.0f, 1.0f);
+    below.add(makeTriangleLight(d, below.emissions.back().get()), LightSet::Shape{});
+  }
+  const LightSampler sampler(below.pointers);
+  ASSERT_FALSE(sampler.bvh().flat());
+  EXPECT_GT(sampler.pmf(nextEventContext(glass, p, Vec3(0.0f, 0.6f, 0.8f)), 0), 0.0f);
+  EXPECT_EQ(sampler.pmf(nextEventContext(diffuse, p, Vec3(0.0f, 0.6f, 0.8f)), 0), 0.0f);
 }
 
 // ---- Render level ----
