@@ -206,7 +206,9 @@ int LightBvh::build(std::vector<Entry>& entries, size_t begin, size_t end, uint6
   return index;
 }
 
-void LightBvh::childImportances(const LightSampleContext& ctx, int node, float c[2]) const {
+// Not inlined: sample() and pmf() must get the same numbers bit for bit, and two inlined copies
+// may be contracted (FMA) differently when the build allows it.
+[[gnu::noinline]] void LightBvh::childImportances(const LightSampleContext& ctx, int node, float c[2]) const {
   const Node& a = nodes_[size_t(node) + 1];
   const Node& b = nodes_[nodes_[size_t(node)].childOrLight];
   c[0] = lightImportance(ctx, a.center, a.radius, a.w, a.phi, a.cosThetaO, a.sinThetaO, a.cosThetaE, a.twoSided != 0);
@@ -224,13 +226,16 @@ bool LightBvh::descend(const LightSampleContext& ctx, float u, int& light, float
     childImportances(ctx, node, c);
     const float total = c[0] + c[1];
     if (!(total > 0.0f)) return false;
-    const float p0 = c[0] / total;
-    if (u < p0) {
-      u = std::min(u / p0, kOneMinusEpsilon);
-      pmf *= p0;
+    // u scaled to [0, total): one division on the chain from one level's u to the next (the
+    // probabilities below are off it). A child of importance 0 is never chosen, also when
+    // u x total rounds up to total.
+    const float scaled = u * total;
+    if (scaled < c[0] || c[1] == 0.0f) {
+      u = std::min(scaled / c[0], kOneMinusEpsilon);
+      pmf *= c[0] / total;
       node = node + 1;
     } else {
-      u = std::min((u - p0) / (1.0f - p0), kOneMinusEpsilon);
+      u = std::min((scaled - c[0]) / c[1], kOneMinusEpsilon);
       pmf *= c[1] / total;
       node = int(nodes_[size_t(node)].childOrLight);
     }

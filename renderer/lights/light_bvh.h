@@ -55,7 +55,7 @@ class LightBvh {
   bool flat() const { return !flat_.empty(); }
   // Up to this many lights with one normal in one plane (a quad or a small polygon light split
   // into triangles: the Cornell box's) are chosen by power: the importance would differ between
-  // them only by the distance to each, and its cost was 10 % of a Cornell render.
+  // them only by the distance to each, and its cost was 13 % of a Cornell render.
   static constexpr size_t kFlatMax = 8;
 
   // 48 bytes: what the importance reads, precomputed (the box's bounding sphere, the cone's
