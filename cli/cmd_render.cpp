@@ -45,6 +45,9 @@ const char* kRenderUsage =
     "  --wavelengths N     wavelengths per path: 4 or 8 (default 4)\n"
     "  --spectral-mode M   mis | terminate | single: at dispersion keep every wavelength with\n"
     "                      spectral MIS (default), keep only the hero, or trace one per path\n"
+    "  --light-sampler S   bvh | power: next-event estimation chooses a light by its estimated\n"
+    "                      contribution at the point (default) or by power alone\n"
+    "                      (docs/light-sampling.md)\n"
     "  --sampler NAME      sobol | random (default sobol)\n"
     "  --filter NAME       box | tent | gaussian | mitchell (default box)\n"
     "  --camera N          which camera of the scene (default 0; none: frame the scene's bounds)\n"
@@ -75,6 +78,7 @@ struct RenderFlags {
   FilterKind filter = FilterKind::Box;
   bool noCache = false, quiet = false;
   render::SpectralMode spectralMode = render::SpectralMode::Mis;
+  render::LightSelection lightSelection = render::LightSelection::Bvh;
 };
 
 // "X,Y,W,H": four integers, X and Y >= 0, W and H >= 1 (checked against the image later).
@@ -132,6 +136,9 @@ int parseFlags(const Args& args, RenderFlags& f) {
     } else if (a == "--spectral-mode") {
       if (!value() || !render::parseSpectralMode(v)) return usage("--spectral-mode needs mis, terminate or single");
       f.spectralMode = *render::parseSpectralMode(v);
+    } else if (a == "--light-sampler") {
+      if (!value() || !render::parseLightSelection(v)) return usage("--light-sampler needs bvh or power");
+      f.lightSelection = *render::parseLightSelection(v);
     } else if (a == "--sampler") {
       if (!value() || !sampling::parseSamplerKind(v)) return usage("--sampler needs sobol or random");
       f.sampler = *sampling::parseSamplerKind(v);
@@ -292,6 +299,7 @@ int runRender(const Args& args) {
   pts.rouletteDepth = s.rouletteDepth;
   pts.wavelengths = s.wavelengths;
   pts.spectralMode = f.spectralMode;
+  pts.lightSelection = f.lightSelection;
   pts.filmWidth = s.width;
   pts.filmHeight = s.height;
   pts.crop = {float(filmX) / float(s.width), float(filmY) / float(s.height), float(filmX + filmWidth) / float(s.width),
@@ -374,6 +382,7 @@ int runRender(const Args& args) {
       {"tex.rouletteDepth", std::to_string(s.rouletteDepth)},
       {"tex.wavelengths", std::to_string(s.wavelengths)},
       {"tex.spectralMode", render::spectralModeName(f.spectralMode)},
+      {"tex.lightSampler", render::lightSelectionName(f.lightSelection)},
       {"tex.filter", filterName(f.filter)},
       {"tex.nonFiniteSamples", std::to_string(counters.nonFiniteSamples)}};
   if (cropped)

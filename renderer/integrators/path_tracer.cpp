@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "renderer/core/warp.h"
+#include "renderer/integrators/light_context.h"
 #include "renderer/integrators/medium_stack.h"
 
 namespace tex::render {
@@ -246,6 +247,7 @@ Spectrum PathTracer::radiance(const sampling::IndexSampler& samples, const Ray& 
   bool specularBounce = true;  // the camera vertex counts as specular: emission seen directly
   float prevPdfW = 0.0f;       // the BSDF technique's density of the last direction (for MIS)
   Vec3 prevP = primary.origin;
+  Vec3 prevN{0.0f};  // the normal of prevP's light-choice context (light_context.h), for MIS
   bool terminated = false;
   if (settings_.spectralMode == SpectralMode::Single && n > 1) {
     terminateSecondaryWavelengths(beta, n);
@@ -277,7 +279,8 @@ Spectrum PathTracer::radiance(const sampling::IndexSampler& samples, const Ray& 
         if (specularBounce || !settings_.nextEventEstimation) {
           L += beta * Le * spectralWeight;
         } else {
-          const float pdfLight = lightSampler.pmf(li) * lights[size_t(li)]->pdfLi(prevP, ray.direction, nullptr);
+          const float pdfLight = lightSampler.pmf(settings_.lightSelection, {prevP, prevN}, li) *
+                                 lights[size_t(li)]->pdfLi(prevP, ray.direction, nullptr);
           L += beta * Le * (spectralWeight * powerHeuristic(prevPdfW, pdfLight));
         }
       }
@@ -320,7 +323,8 @@ Spectrum PathTracer::radiance(const sampling::IndexSampler& samples, const Ray& 
         float pdfLight = 0.0f;
         if (li >= 0) {
           EmitterPoint ep{hit.p, hit.ng, hit.primitive};
-          pdfLight = lightSampler.pmf(li) * lights[size_t(li)]->pdfLi(prevP, ray.direction, &ep);
+          pdfLight = lightSampler.pmf(settings_.lightSelection, {prevP, prevN}, li) *
+                     lights[size_t(li)]->pdfLi(prevP, ray.direction, &ep);
         }
         L += beta * Le * (spectralWeight * powerHeuristic(prevPdfW, pdfLight));
       }
@@ -339,9 +343,10 @@ Spectrum PathTracer::radiance(const sampling::IndexSampler& samples, const Ray& 
     };
 
     const int dim = kFirstBounceDimension + depth * kDimensionsPerBounce;
-    // Next-event estimation: one light chosen by power.
+    // Next-event estimation: one light, chosen for this point (or by power).
+    const LightSampleContext lightContext = nextEventContext(bsdf, hit.p, wo);
     if (settings_.nextEventEstimation && bsdf.hasNonSpecular() && lightSampler.size() > 0) {
-      const auto choice = lightSampler.sample(samples.get(dim + kLightChoice));
+      const auto choice = lightSampler.sample(settings_.lightSelection, lightContext, samples.get(dim + kLightChoice));
       if (choice) {
         const Light& light = *lights[size_t(choice->first)];
         const Vec2 u(samples.get(dim + kLight2D), samples.get(dim + kLight2D + 1));
@@ -425,9 +430,10 @@ Spectrum PathTracer::radiance(const sampling::IndexSampler& samples, const Ray& 
         spectralWeight = 1.0f;
       }
     }
-    if (!throughWall) {
+    if (!throughWall) {  // past a wall, the vertex before it keeps its light-choice context too
       specularBounce = bs->specular;
       prevP = hit.p;
+      prevN = lightContext.n;
     }
     spawnRayInto(ray, hit.p, hit.ng, hit.pError, bs->wi);
 

@@ -1,6 +1,6 @@
 // The spectral path tracer: a stream kernel from a sample index to one sample record.
 // Unidirectional paths from the camera with next-event estimation to one light per vertex
-// (chosen by power) and multiple importance sampling (power heuristic) between light and BSDF
+// (chosen by the light sampler: docs/light-sampling.md) and multiple importance sampling (power heuristic) between light and BSDF
 // sampling (Veach 1997, chapter 9); Russian roulette on the path throughput after
 // `rouletteDepth` bounces; `maxDepth` bounces at most. A path carries a group of wavelengths;
 // a dispersive scattering event samples its direction with the hero wavelength; the other
@@ -41,6 +41,9 @@ struct PathTracerSettings {
   // estimator is tested against; it cannot see point or directional lights.
   bool nextEventEstimation = true;
   SpectralMode spectralMode = SpectralMode::Mis;
+  // How next-event estimation chooses a light: by its estimated contribution at the point
+  // (the light BVH) or by power alone (renderer/lights/light_sampler.h).
+  LightSelection lightSelection = LightSelection::Bvh;
   // The camera image's pixel grid, for the pixel footprint of camera rays (ray differentials at
   // the first hit; textures filter with it). 0: no differentials.
   int filmWidth = 0, filmHeight = 0;

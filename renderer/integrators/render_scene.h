@@ -8,7 +8,7 @@
 
 #include "renderer/camera/camera.h"
 #include "renderer/geometry/scene_geometry.h"
-#include "renderer/lights/light.h"
+#include "renderer/lights/light_sampler.h"
 #include "renderer/material/material_system.h"
 #include "renderer/scene/scene_description.h"
 

@@ -16,6 +16,7 @@
 
 #include "renderer/core/geometry.h"
 #include "renderer/core/spectrum.h"
+#include "renderer/lights/light_bounds.h"
 
 namespace tex::render {
 
@@ -95,6 +96,10 @@ class Light {
   virtual void preprocess(const SceneSphere& sphere) { (void)sphere; }
   // Total emitted power (a scalar proxy, for choosing lights by power).
   virtual float power() const = 0;
+  // Where and in which directions the light emits, for choosing it by its likely contribution
+  // at a point (light_bvh.h); nullopt for lights without finite bounds (directional and
+  // environment lights), which the light sampler chooses with a fixed probability.
+  virtual std::optional<LightBounds> bounds() const { return std::nullopt; }
 
   virtual std::optional<LightLiSample> sampleLi(const Vec3& refPoint, Vec2 u, const Wavelengths& lambda) const = 0;
   // sampleLi, except that a light whose radiance is costly (an area light runs its material's
@@ -122,40 +127,6 @@ class Light {
     (void)lambda;
     return Spectrum();
   }
-};
-
-// Chooses among the scene's lights with probability proportional to power (a piecewise-
-// constant discrete distribution; lights of zero power are never chosen).
-class LightSampler {
- public:
-  explicit LightSampler(std::span<const Light* const> lights);
-  // The chosen light's index and its probability; nullopt when no light has power. Inline:
-  // returned from a call, the optional pair was assembled on the stack and reloaded across its
-  // 4-byte stores (a store-forwarding stall at every light sample).
-  std::optional<std::pair<int, float>> sample(float u) const {
-    // The first light whose CDF exceeds u; a zero-pmf light has the same CDF as its
-    // predecessor, so upper_bound never lands on it, except past the end from rounding (then
-    // take the last light with power).
-    int i = cdf_.size() <= kLinearSearchMax ? countNotAbove(u)
-                                            : int(std::upper_bound(cdf_.begin(), cdf_.end(), u) - cdf_.begin());
-    i = std::min(i, size() - 1);
-    while (i >= 0 && pmf_[size_t(i)] == 0.0f) --i;
-    if (i < 0) return std::nullopt;
-    return std::make_pair(i, pmf_[size_t(i)]);
-  }
-  float pmf(int lightIndex) const;
-  int size() const { return int(pmf_.size()); }
-
- private:
-  static constexpr size_t kLinearSearchMax = 16;  // up to this many lights, sample() counts
-  // upper_bound's index by counting (no branch to mispredict on a random u): the CDF is
-  // sorted, so the entries not above u come first; !(u < c) also counts all for a NaN u.
-  int countNotAbove(float u) const {
-    int i = 0;
-    for (const float c : cdf_) i += !(u < c);
-    return i;
-  }
-  std::vector<float> pmf_, cdf_;
 };
 
 }  // namespace tex::render

@@ -8,6 +8,15 @@ namespace tex::render {
 
 float PointLight::power() const { return 4.0f * kPi * intensity_.luminance(); }
 
+std::optional<LightBounds> PointLight::bounds() const {
+  LightBounds b;
+  b.box.extend(position_);
+  b.phi = intensity_.luminance();
+  b.normals = DirectionCone::entireSphere();
+  b.cosThetaE = 0.0f;
+  return b;
+}
+
 std::optional<LightLiSample> PointLight::sampleLi(const Vec3& refPoint, Vec2 u, const Wavelengths& lambda) const {
   (void)u;
   const Vec3 toLight = position_ - refPoint;

@@ -15,6 +15,8 @@ class PointLight final : public Light {
 
   LightKind kind() const override { return LightKind::Point; }
   float power() const override;  // 4 pi I
+  // A point (an empty box) emitting I in every direction: phi = I, theta_o = pi.
+  std::optional<LightBounds> bounds() const override;
   std::optional<LightLiSample> sampleLi(const Vec3& refPoint, Vec2 u, const Wavelengths& lambda) const override;
   float pdfLi(const Vec3&, const Vec3&, const EmitterPoint*) const override { return 0.0f; }
   std::optional<LightLeSample> sampleLe(Vec2 uPos, Vec2 uDir, const Wavelengths& lambda) const override;

@@ -41,6 +41,15 @@ float SpotLight::power() const {
   return 2.0f * kPi * integral * intensity_.luminance();
 }
 
+std::optional<LightBounds> SpotLight::bounds() const {
+  LightBounds b;
+  b.box.extend(position_);
+  b.phi = intensity_.luminance();
+  b.normals = {frame_.n, 1.0f};
+  b.cosThetaE = 1.0f - versineOuter_;
+  return b;
+}
+
 std::optional<LightLiSample> SpotLight::sampleLi(const Vec3& refPoint, Vec2 u, const Wavelengths& lambda) const {
   (void)u;
   const Vec3 toLight = position_ - refPoint;

@@ -23,6 +23,8 @@ class SpotLight final : public Light {
 
   LightKind kind() const override { return LightKind::Spot; }
   float power() const override;
+  // A point emitting up to I along its axis: phi = I, theta_o = 0, theta_e = the outer cone.
+  std::optional<LightBounds> bounds() const override;
   std::optional<LightLiSample> sampleLi(const Vec3& refPoint, Vec2 u, const Wavelengths& lambda) const override;
   float pdfLi(const Vec3&, const Vec3&, const EmitterPoint*) const override { return 0.0f; }
   // Directions uniform in the outer cone.

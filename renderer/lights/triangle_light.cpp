@@ -34,6 +34,20 @@ float TriangleLight::power() const {
   return sides * kPi * area_ * (0.9f * local / 4.0f + 0.1f * emission_->averageRadiance());
 }
 
+std::optional<LightBounds> TriangleLight::bounds() const {
+  LightBounds b;
+  b.box.extend(desc_.p0);
+  b.box.extend(desc_.p1);
+  b.box.extend(desc_.p2);
+  const float sides = desc_.twoSided ? 2.0f : 1.0f;
+  // A degenerate triangle has no normal: it gets no share of the choices (power() is 0 too).
+  b.phi = area_ > 0.0f ? power() / (kPi * sides) : 0.0f;
+  b.normals = {n_, 1.0f};
+  b.cosThetaE = 0.0f;
+  b.twoSided = desc_.twoSided;
+  return b;
+}
+
 namespace {
 // A vertex attribute at barycentrics (b0, b1) of the first two vertices.
 template <class T>

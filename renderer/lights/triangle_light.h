@@ -26,6 +26,9 @@ class TriangleLight final : public Light {
 
   LightKind kind() const override { return LightKind::Triangle; }
   float power() const override;  // pi area averageRadiance per emitting side (Lambertian)
+  // The triangle's box, its normal (theta_o = 0), Lambertian spread (theta_e = pi/2), and
+  // phi = power / (pi sides): radiance x area of one face.
+  std::optional<LightBounds> bounds() const override;
   std::optional<LightLiSample> sampleLi(const Vec3& refPoint, Vec2 u, const Wavelengths& lambda) const override;
   std::optional<LightLiSample> sampleLiDeferred(const Vec3& refPoint, Vec2 u, const Wavelengths& lambda) const override;
   Spectrum deferredRadiance(const LightLiSample& sample, const Wavelengths& lambda) const override;

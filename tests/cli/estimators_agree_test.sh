@@ -2,8 +2,9 @@
 # Unbiased estimators of one image must agree: every shipped scene (and the shared glTF models
 # with dispersion and transmission) rendered with the defaults and with each other estimator
 # the CLI offers (spectral modes terminate and single, the random sampler, 8 wavelengths,
-# Russian roulette pushed out of reach) must have the same image means within noise, by `tex
-# compare`'s batch-means test (|t| <= 4.5 per channel). Round 15's spectral MIS bias (5-20 % on a
+# Russian roulette pushed out of reach, lights chosen by power instead of the light BVH) must
+# have the same image means within noise, by `tex compare`'s batch-means test (|t| <= 4.5 per
+# channel). Round 15's spectral MIS bias (5-20 % on a
 # dispersive object) was of the kind the per-pixel Z-test misses and this test catches. Renders
 # are deterministic for their seeds, so the verdict is too. Usage: estimators_agree_test.sh TEX
 # SOURCE_DIR
@@ -14,7 +15,8 @@ for model in DispersionTest TransmissionTest; do
   glb=$src/../shared/gltf/$model/glTF-Binary/$model.glb
   [ -f "$glb" ] && scenes+=("$glb")
 done
-variants=("--spectral-mode terminate" "--spectral-mode single" "--sampler random" "--wavelengths 8" "--roulette-depth 1000")
+variants=("--spectral-mode terminate" "--spectral-mode single" "--sampler random" "--wavelengths 8" "--roulette-depth 1000"
+          "--light-sampler power")
 compared=0 expected=0
 for scene in "${scenes[@]}"; do
   name=$(basename "$scene")

@@ -60,6 +60,10 @@ echo "$out" | grep -q '"meantest": {[^}]*"pass": false, "verdict": "image means 
 for mode in mis terminate single; do
   expect_exit 0 "spectral mode $mode" "$tex" render "$src/scenes/default.json" --spp 1 --res 16x16 --spectral-mode $mode -q -o "$tmp/m.png"
 done
+for selection in bvh power; do
+  expect_exit 0 "light sampler $selection" "$tex" render "$src/scenes/cornell-box.json" --spp 1 --res 16x16 --light-sampler $selection -q -o "$tmp/m.exr"
+  grep -aq "$selection" "$tmp/m.exr" || fail "the image's metadata does not name the light sampler $selection"
+done
 expect_exit 0 "help" "$tex" render --help
 # A crop window: the output is the window's size and records where it came from; windows
 # outside the image, malformed ones, and a crop with a sample file are refused.
@@ -101,6 +105,8 @@ expect_exit 2 "bad spp" "$tex" render "$scene" --spp zero
 expect_exit 2 "bad resolution" "$tex" render "$scene" --res 10by10
 expect_exit 2 "bad output type" "$tex" render "$scene" -o out.jpg
 expect_exit 2 "bad spectral mode" "$tex" render "$scene" --spectral-mode all
+expect_exit 2 "bad light sampler" "$tex" render "$scene" --light-sampler uniform
+echo "$out" | grep -q "light-sampler needs bvh or power" || fail "bad light sampler not named: $out"
 expect_exit 2 "bad roulette depth" "$tex" render "$scene" --roulette-depth 0
 echo "$out" | grep -q "roulette-depth needs" || fail "bad roulette depth not named: $out"
 # The flags take the scene file's ranges: render.seed is any 64-bit value, roulette_depth 1..65536

@@ -22,6 +22,7 @@
 #include "renderer/lights/directional_light.h"
 #include "renderer/lights/image_environment.h"
 #include "renderer/lights/light_factory.h"
+#include "renderer/lights/light_sampler.h"
 #include "renderer/lights/point_light.h"
 #include "renderer/lights/spot_light.h"
 #include "renderer/lights/triangle_light.h"
@@ -666,27 +667,27 @@ TEST(Light, SamplerPicksInProportionToPower) {
   sampling::Pcg32 rng(15, 7);
   constexpr int kSamples = 1000000;
   for (int i = 0; i < kSamples; ++i) {
-    const auto pick = sampler.sample(rng.nextFloat());
+    const auto pick = sampler.samplePower(rng.nextFloat());
     ASSERT_TRUE(pick);
     observed[size_t(pick->first)] += 1;
-    ASSERT_EQ(pick->second, sampler.pmf(pick->first));
+    ASSERT_EQ(pick->second, sampler.pmfPower(pick->first));
   }
   for (size_t i = 0; i < powers.size(); ++i) {
     expected[i] = powers[i] / total * kSamples;
-    EXPECT_NEAR(sampler.pmf(int(i)), powers[i] / total, 1e-6);
+    EXPECT_NEAR(sampler.pmfPower(int(i)), powers[i] / total, 1e-6);
   }
   const test::ChiSquareResult r = test::chiSquareTest(observed, expected);
   EXPECT_TRUE(r.passed) << r.detail;
   EXPECT_EQ(observed[1], 0.0);
   EXPECT_EQ(observed[5], 0.0);
-  // The ends of [0,1) pick lights with power.
-  EXPECT_EQ(sampler.sample(0.0f)->first, 0);
-  EXPECT_EQ(sampler.sample(0x1.fffffep-1f)->first, 6);
+  // The ends of [0,1), and u outside it, pick lights with power.
+  for (const float u : {0.0f, 0x1.fffffep-1f, 1.0f, -0.5f, std::numeric_limits<float>::quiet_NaN()})
+    EXPECT_GT(sampler.pmfPower(sampler.samplePower(u)->first), 0.0f) << u;
   // No light with power: nothing to choose.
   const FixedPowerLight dark(0.0f);
   const Light* darkOnly[] = {&dark, &dark};
-  EXPECT_FALSE(LightSampler(darkOnly).sample(0.5f));
-  EXPECT_FALSE(LightSampler(std::span<const Light* const>()).sample(0.5f));
+  EXPECT_FALSE(LightSampler(darkOnly).samplePower(0.5f));
+  EXPECT_FALSE(LightSampler(std::span<const Light* const>()).samplePower(0.5f));
 }
 
 // A power that overflows a float (4 pi I for I = 3e38, or a sun over a scene of huge bounds)
@@ -696,10 +697,10 @@ TEST(Light, OverflowingPowersAreChosenAndOverflowingEmissionIsAnError) {
   const FixedPowerLight huge(INFINITY), dim(1.0f), broken(NAN);
   const Light* lights[] = {&dim, &huge, &broken};
   const LightSampler sampler(lights);
-  EXPECT_GT(sampler.pmf(1), 0.99f);
-  EXPECT_GT(sampler.pmf(0), 0.0f);
-  EXPECT_EQ(sampler.pmf(2), 0.0f);
-  EXPECT_EQ(sampler.sample(0.5f)->first, 1);
+  EXPECT_GT(sampler.pmfPower(1), 0.99f);
+  EXPECT_GT(sampler.pmfPower(0), 0.0f);
+  EXPECT_EQ(sampler.pmfPower(2), 0.0f);
+  EXPECT_EQ(sampler.samplePower(0.5f)->first, 1);
   LightDesc desc;
   desc.kind = LightDesc::Kind::Point;
   desc.name = "bright";
@@ -711,43 +712,11 @@ TEST(Light, OverflowingPowersAreChosenAndOverflowingEmissionIsAnError) {
   ASSERT_TRUE(point) << error;
   EXPECT_EQ(point->power(), INFINITY);
   const Light* alone[] = {point.get()};
-  EXPECT_EQ(LightSampler(alone).pmf(0), 1.0f);
+  EXPECT_EQ(LightSampler(alone).pmfPower(0), 1.0f);
   desc.intensity = 1e20f;
   desc.emission.scale = 1e20f;
   EXPECT_FALSE(makeLight(desc, error));
   EXPECT_NE(error.find("light 'bright': its intensity times its emission overflows a 32-bit float"), std::string::npos) << error;
-}
-
-TEST(Light, SamplerCountingAndBinarySearchPickTheSameLight) {
-  // Up to 16 lights the sampler counts CDF entries instead of bisecting; with a 17th, dark
-  // light appended (same CDF, binary search) every u must pick the same light, at the CDF's
-  // own values (ties), at the ends and for NaN.
-  std::vector<FixedPowerLight> lights;
-  for (int i = 0; i < 16; ++i) lights.emplace_back(i % 5 == 3 ? 0.0f : float(1 + (i * 7) % 11));
-  lights.emplace_back(0.0f);
-  std::vector<const Light*> pointers;
-  for (const FixedPowerLight& l : lights) pointers.push_back(&l);
-  const LightSampler counting(std::span<const Light* const>(pointers.data(), 16));
-  const LightSampler bisecting(pointers);
-  std::vector<float> us = {0.0f, 0x1.fffffep-1f, 1.0f, -0.5f, 2.0f, std::numeric_limits<float>::quiet_NaN()};
-  float running = 0.0f;
-  for (int i = 0; i < 16; ++i) {
-    running += counting.pmf(i);
-    us.push_back(running);
-    us.push_back(std::nextafter(running, 0.0f));
-  }
-  sampling::Pcg32 rng(3, 9);
-  for (int i = 0; i < 20000; ++i) us.push_back(rng.nextFloat());
-  int checked = 0;
-  for (float u : us) {
-    const auto a = counting.sample(u), b = bisecting.sample(u);
-    ASSERT_EQ(a.has_value(), b.has_value()) << u;
-    if (!a) continue;
-    ASSERT_EQ(a->first, b->first) << "u " << u;
-    ASSERT_EQ(a->second, b->second);
-    ++checked;
-  }
-  EXPECT_EQ(checked, int(us.size()));
 }
 
 TEST(Light, FactoryBuildsEachKindFromItsDescription) {

@@ -675,7 +675,7 @@ TEST(PathTracer, TrianglesOfAPatternedEmitterAreChosenByTheirOwnPower) {
   const std::unique_ptr<RenderScene> rs = buildSquare(scene, 8);
   ASSERT_TRUE(rs);
   ASSERT_EQ(rs->lightSampler().size(), 2);
-  const float a = rs->lightSampler().pmf(0), b = rs->lightSampler().pmf(1);
+  const float a = rs->lightSampler().pmfPower(0), b = rs->lightSampler().pmfPower(1);
   const float ratio = std::max(a, b) / std::min(a, b);
   // Expected (0.9 * 2/3 + 0.1 * 1/2) / (0.9 * 1/3 + 0.1 * 1/2) = 1.857 (four interior points).
   EXPECT_NEAR(ratio, 1.857f, 0.05f);
