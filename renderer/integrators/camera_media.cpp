@@ -38,7 +38,7 @@ std::map<int, FirstCrossing> firstCrossingsAlong(const SceneGeometry& geometry, 
 
 }  // namespace
 
-MediumStack mediaAroundPoint(const SceneGeometry& geometry, const MaterialSystem& materials, const Vec3& p) {
+MediumStack mediaAroundPoint(const SceneGeometry& geometry, const MaterialSystem& materials, const Vec3& p, const Vec3& forward) {
   // Directions unlikely to run along a modelled edge or face.
   const Vec3 directions[3] = {normalize(Vec3(0.2718f, 0.9311f, 0.1414f)), normalize(Vec3(-0.5772f, -0.1618f, 0.8007f)),
                               normalize(Vec3(0.6931f, -0.3010f, -0.6543f))};
@@ -47,11 +47,20 @@ MediumStack mediaAroundPoint(const SceneGeometry& geometry, const MaterialSystem
     float t = 0;  // distance to the surface, from the first ray that voted inside
   };
   std::map<int, Votes> votes;
+  // Along `forward` (where the camera's own rays go) the first crossing decides: a camera
+  // exactly on a surface then starts on whichever side its rays cross it from (a ray that
+  // reports the surface at distance 0 enters or leaves it; one that does not is past it).
+  if (forward != Vec3(0.0f))
+    for (const auto& [material, first] : firstCrossingsAlong(geometry, materials, p, normalize(forward))) {
+      Votes& v = votes[material];
+      (first.leaving ? v.inside : v.outside) = 100;  // outvotes the three rays below
+      v.t = first.t;
+    }
   for (const Vec3& d : directions)
     for (const auto& [material, first] : firstCrossingsAlong(geometry, materials, p, d)) {
       Votes& v = votes[material];
       if (!first.leaving) ++v.outside;
-      else if (v.inside++ == 0) v.t = first.t;
+      else if (v.inside++ == 0 && v.outside < 100) v.t = first.t;
     }
   std::vector<std::pair<float, int>> enclosing;  // (distance to its surface, material)
   for (const auto& [material, v] : votes)

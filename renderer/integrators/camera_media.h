@@ -16,7 +16,10 @@ namespace tex::render {
 // grazing an edge does not decide; and an open surface such as a sea modelled as a plane
 // encloses what is below it, not what is above), and of nested volumes the one whose surface
 // the rays meet first is the innermost. Volumes of .tex materials (refracting solids without
-// a declared interior) are not found.
-MediumStack mediaAroundPoint(const SceneGeometry& geometry, const MaterialSystem& materials, const Vec3& p);
+// a declared interior) are not found. A ray along `forward` (the camera's view; 0: none), when
+// it meets a volume's surfaces, decides for that volume alone, so that a camera placed exactly
+// on a surface starts on the side its own rays cross it from.
+MediumStack mediaAroundPoint(const SceneGeometry& geometry, const MaterialSystem& materials, const Vec3& p,
+                             const Vec3& forward = Vec3(0.0f));
 
 }  // namespace tex::render

@@ -63,7 +63,7 @@ class PathTracer {
         settings_(settings),
         straightRaysPass_(scene.materials().anyMayPassStraightRays()),
         volumes_(scene.materials().anyTransmitsIntoAVolume()),
-        cameraMedia_(volumes_ ? mediaAroundPoint(scene.geometry(), scene.materials(), scene.camera().position()) : MediumStack()) {}
+        cameraMedia_(volumes_ ? mediaAroundPoint(scene.geometry(), scene.materials(), scene.camera().position(), scene.camera().forward()) : MediumStack()) {}
 
   SampleRecord record(uint64_t index) const;
   void operator()(uint64_t index, runtime::Emitter<SampleRecord>& out) const { out.emit(record(index)); }

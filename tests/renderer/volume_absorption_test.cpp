@@ -273,5 +273,26 @@ TEST(VolumeAbsorption, AnOpenSeaHoldsACameraBelowItNotAbove) {
   }
 }
 
+// A camera exactly on the top face of an absorbing cube (side 2), looking down at a lamp below
+// the cube: looking in (on the top face) its rays cross the 2 units of the cube, c^(2 / D);
+// looking out (on the bottom face) none, 1. With the three rays alone, the camera on the top
+// face was inside the cube and its rays then entered it again: the whole way to the lamp was
+// absorbed (a hunt's finding).
+TEST(VolumeAbsorption, ACameraOnAVolumesSurfaceStartsOnTheSideItsRaysCross) {
+  const Vec3 colour(0.5f);
+  const float distance = 1.0f;
+  for (const bool lookingIn : {true, false}) {
+    SceneDescription scene = absorbingCube(2.0f, distance, colour);
+    test::addNamedMesh(scene, "glow", makeQuad(Vec3(-20.0f, -20.0f, -10.0f), Vec3(40.0f, 0.0f, 0.0f), Vec3(0.0f, 40.0f, 0.0f)));
+    test::bindEntriesByMaterialName(scene, test::writeTexModule("on_face", "export fn glow(h: Hit) -> Material = emission(spectrum(1.0))\n"),
+                                    {"glow"});
+    scene.cameras.push_back(test::cameraLookingDownZ(Vec3(0.0f, 0.0f, lookingIn ? 1.0f : -1.0f), 0.0005f));
+    const double worst = worstDifference(scene, 3, [&](const Wavelengths& one) {
+      return lookingIn ? std::pow(rgbReflectanceSpectrum(colour, one).v[0], 2.0f / distance) : 1.0f;
+    });
+    EXPECT_LT(worst, 2e-4) << (lookingIn ? "looking in" : "looking out");
+  }
+}
+
 }  // namespace
 }  // namespace tex::render
