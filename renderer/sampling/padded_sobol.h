@@ -1,8 +1,8 @@
 // Dimensions 2 and up of a render's samples with the Sobol sampler and a pixel grid: padded per
 // pixel (Burley 2020, "Practical Hash-based Owen Scrambling", section 4; pbrt-v4's padded and
 // Z-order Sobol samplers do the same). Dimensions come in groups of four, d = 4 g + j: sample s
-// of a pixel takes Sobol dimension j of the index s XOR a random word of (pixel, g) (a random
-// aligned block of Sobol points, permuted), Owen-scrambled by
+// of a pixel takes Sobol dimension j of the index s shuffled by a nested scramble seeded by
+// (pixel, g) (a random aligned block of Sobol points, in a random order), Owen-scrambled by
 // (pixel, d). So in every group the N samples of a pixel stratify each dimension in 1D and the
 // group's first two dimensions as a (0,m,2)-net (Sobol's first two dimensions; the other pairs
 // of dimensions 0-3 are (t,m,2)-nets with t > 0), independently randomised per pixel, at any
@@ -30,14 +30,19 @@ inline uint64_t paddedPixelKey(uint64_t seed, int imageX, int imageY) {
   return hashWords(seed, (uint64_t(uint32_t(imageY)) << 32) | uint32_t(imageX), 0x5041444445445058ull);
 }
 
-// Sample s's index into the Sobol sequence for dimension group g of the pixel: s XOR a random
-// word of the (pixel, group), i.e. the pixel's samples take a random aligned block of Sobol
-// points (a (0,m,2)-net in dimensions 0 and 1) in an order permuted by the XOR, different for
-// every group, so that groups do not repeat each other's points. The pixel key is already a
-// 64-bit hash: one 32-bit mix per group and per dimension suffices (a path reads about 40
-// dimensions; two 64-bit mixes each had cost 9 % of a Cornell render).
+// Sample s's index into the Sobol sequence for dimension group g of the pixel: s shuffled by a
+// nested uniform scramble of its bits seeded by (pixel, group) (Burley 2020, section 4: each
+// bit flipped by a hash of the bits above it), so that the first 2^k samples of the pixel take
+// an aligned block of 2^k Sobol points (a (0,m,2)-net in dimensions 0 and 1) in a random order,
+// a different order for every group. Until round 17 the shuffle was s XOR a random word: a
+// linear one, under which dimension j of every group was a nested scramble of one value (the
+// j-th Sobol coordinate of s), so the groups moved together: in every pixel the samples with
+// [x < 1/2] in dimension j of one group were exactly those with it (or without it) in another
+// (Samplers.PaddedGroupsOfAPixelAreIndependent). The pixel key is already a 64-bit hash: one
+// 32-bit mix per group and per dimension suffices (a path reads about 40 dimensions; two 64-bit
+// mixes each had cost 9 % of a Cornell render).
 inline uint32_t paddedGroupIndex(uint64_t pixelKey, uint32_t sampleInPixel, int group) {
-  return sampleInPixel ^ lowbias32(uint32_t(pixelKey >> 32) ^ (uint32_t(group) * 0x9e3779b9u));
+  return owenScramble(sampleInPixel, lowbias32(uint32_t(pixelKey >> 32) ^ (uint32_t(group) * 0x9e3779b9u)));
 }
 
 inline uint32_t paddedScrambleSeed(uint64_t pixelKey, int dimension) {
