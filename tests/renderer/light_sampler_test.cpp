@@ -22,24 +22,13 @@
 #include "renderer/sampling/pcg.h"
 #include "renderer/scene/shapes.h"
 #include "tests/renderer/chi_square.h"
+#include "tests/renderer/constant_emission.h"
 #include "tests/renderer/scene_fixtures.h"
 
 namespace tex::render {
 namespace {
 
-class ConstantEmission final : public EmissionSource {
- public:
-  explicit ConstantEmission(float L) : L_(L) {}
-  Spectrum radiance(const EmitterPoint&, const Wavelengths& lambda) const override {
-    Spectrum s;
-    for (int i = 0; i < lambda.count; ++i) s[i] = L_;
-    return s;
-  }
-  float averageRadiance() const override { return L_; }
-
- private:
-  float L_;
-};
+using ::tex::test::ConstantEmission;
 
 Vec3 randomUnit(sampling::Pcg32& rng) {
   const float z = 1.0f - 2.0f * rng.nextFloat(), phi = 2.0f * kPi * rng.nextFloat();

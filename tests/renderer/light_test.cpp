@@ -29,6 +29,7 @@
 #include "renderer/sampling/pcg.h"
 #include "renderer/spectra/spectrum_desc.h"
 #include "tests/renderer/chi_square.h"
+#include "tests/renderer/constant_emission.h"
 
 namespace tex::render {
 namespace {
@@ -62,19 +63,7 @@ class PlacedEmission final : public EmissionSource {
   float scale_;
 };
 
-class ConstantEmission final : public EmissionSource {
- public:
-  explicit ConstantEmission(float L) : L_(L) {}
-  Spectrum radiance(const EmitterPoint&, const Wavelengths& lambda) const override {
-    Spectrum s;
-    for (int i = 0; i < lambda.count; ++i) s[i] = L_;
-    return s;
-  }
-  float averageRadiance() const override { return L_; }
-
- private:
-  float L_;
-};
+using ::tex::test::ConstantEmission;
 
 // Ray-triangle intersection (Moller-Trumbore, in double): the hit point, if any.
 std::optional<Vec3> intersectTriangle(const Vec3& o, const Vec3& d, const Vec3& p0, const Vec3& p1, const Vec3& p2) {
