@@ -346,7 +346,12 @@ Spectrum PathTracer::radiance(const sampling::IndexSampler& samples, const Ray& 
     // Next-event estimation: one light, chosen for this point (or by power).
     const LightSampleContext lightContext = nextEventContext(bsdf, hit.p, wo);
     if (settings_.nextEventEstimation && bsdf.hasNonSpecular() && lightSampler.size() > 0) {
-      const auto choice = lightSampler.sample(settings_.lightSelection, lightContext, samples.get(dim + kLightChoice));
+      // By power, the alias table needs more than the sampler's 24 bits (AliasTable::sample):
+      // independent low bits below the stratified ones.
+      double uChoice = samples.get(dim + kLightChoice);
+      if (settings_.lightSelection == LightSelection::Power)
+        uChoice += double(samples.independent(kLightChoiceLowBitsStream + uint64_t(depth))) * 0x1p-24;
+      const auto choice = lightSampler.sample(settings_.lightSelection, lightContext, uChoice);
       if (choice) {
         const Light& light = *lights[size_t(choice->first)];
         const Vec2 u(samples.get(dim + kLight2D), samples.get(dim + kLight2D + 1));

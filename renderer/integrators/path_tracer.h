@@ -79,6 +79,8 @@ class PathTracer {
   static constexpr int kFirstBounceDimension = 8;
   static constexpr int kDimensionsPerBounce = 8;
   static constexpr int kLight2D = 0, kLightChoice = 2, kRoulette = 3, kBsdf2D = 4, kLobeChoice = 6;
+  // IndexSampler::independent streams: the light choice's low bits, one per bounce from here.
+  static constexpr uint64_t kLightChoiceLowBitsStream = 0x4c49474854ull << 8;
 
  private:
   // Where the camera ray started, so that the first hit can trace the neighbouring pixels'

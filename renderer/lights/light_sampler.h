@@ -62,12 +62,13 @@ class LightSampler {
   }
 
   // By power (zero-power lights are never chosen).
-  std::optional<std::pair<int, float>> samplePower(float u) const { return power_.sample(u); }
+  // u in double: see AliasTable::sample.
+  std::optional<std::pair<int, float>> samplePower(double u) const { return power_.sample(u); }
   float pmfPower(int lightIndex) const { return power_.pmf(lightIndex); }
 
   // Either, as the path tracer's setting says.
-  std::optional<std::pair<int, float>> sample(LightSelection selection, const LightSampleContext& ctx, float u) const {
-    return selection == LightSelection::Power ? samplePower(u) : sample(ctx, u);
+  std::optional<std::pair<int, float>> sample(LightSelection selection, const LightSampleContext& ctx, double u) const {
+    return selection == LightSelection::Power ? samplePower(u) : sample(ctx, std::min(float(u), 0x1.fffffep-1f));
   }
   float pmf(LightSelection selection, const LightSampleContext& ctx, int lightIndex) const {
     return selection == LightSelection::Power ? pmfPower(lightIndex) : pmf(ctx, lightIndex);
