@@ -13,7 +13,7 @@ namespace {
 constexpr int kBuckets = 12;
 // Past this depth splits halve the count, so that every light's path fits 64 bits (a
 // degenerate heuristic split peels one light at a time).
-constexpr int kHeuristicDepth = 40;
+constexpr int kHeuristicDepth = 40;  // at most; fewer for huge light counts (heuristicDepth_)
 constexpr float kOneMinusEpsilon = 0x1.fffffep-1f;
 
 // The heuristic's cost of a cluster: power x the solid-angle measure of its emission cone
@@ -98,6 +98,12 @@ LightBvh::LightBvh(std::vector<Entry> entries, int lightCount) {
   }
   // The tree is built either way (its nodes describe the lights); a flat set does not descend it.
   nodes_.reserve(2 * entries.size() - 1);
+  // Past the heuristic's depth nodes halve their count, so the deepest leaf is at most
+  // heuristicDepth_ + ceil(log2 n): kept within the 64-bit trail (beyond 2^24 lights, 40 levels
+  // of heuristic had let it overflow).
+  int log2Count = 0;
+  while (log2Count < 63 && (uint64_t(1) << log2Count) < uint64_t(entries.size())) ++log2Count;
+  heuristicDepth_ = std::max(0, std::min(kHeuristicDepth, 63 - log2Count));
   build(entries, 0, entries.size(), flat_.empty() ? 0 : ~uint64_t(0), 0);
 }
 
@@ -170,7 +176,7 @@ int LightBvh::build(std::vector<Entry>& entries, size_t begin, size_t end, uint6
     const float t = (centroid(e.bounds)[axis] - centroids.lower[axis]) / extent[axis];
     return std::clamp(int(t * kBuckets), 0, kBuckets - 1);
   };
-  if (depth < kHeuristicDepth) {
+  if (depth < heuristicDepth_) {
     for (int axis = 0; axis < 3; ++axis) {
       if (!(extent[axis] > 0.0f)) continue;
       Cluster bucket[kBuckets];

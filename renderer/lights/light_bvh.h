@@ -82,6 +82,7 @@ class LightBvh {
   void childImportances(const LightSampleContext& ctx, int node, float c[2]) const;
 
   std::vector<Node> nodes_;
+  int heuristicDepth_ = 40;  // levels split by the cost heuristic before halving (light_bvh.cpp)
   std::vector<uint64_t> trail_;  // per light: bit k = which child it lies in at depth k (flat: its entry)
   AliasTable flat_;  // flat lights: the power distribution over them, labelled by light (else empty)
   std::vector<uint8_t> inTree_;  // per light
