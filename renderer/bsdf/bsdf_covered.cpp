@@ -48,7 +48,9 @@ Spectrum Bsdf::localEvalCovered(const Vec3& wo, const Vec3& wi, TransportMode mo
   if (!c.hasClearcoat) return spread + directional;
   const Vec3 woCoat = toClearcoat(wo), wiCoat = toClearcoat(wi);
   const float coatO = std::fabs(woCoat.z), coatI = std::fabs(wiCoat.z);
-  Spectrum f = coatEval(c.clearcoat, woCoat, wiCoat);
+  // The clearcoat reflects only: with its own normal map its frame may see wi above it where
+  // the surface's sees it below (a reflection into the surface: a leak on open geometry).
+  Spectrum f = wo.z * wi.z > 0.0f ? coatEval(c.clearcoat, woCoat, wiCoat) : Spectrum();
   if (!spread.isBlack()) f += spread * coveredTransmittance(c.clearcoat, c.clearcoatCoverage, coatO, coatI);
   if (!directional.isBlack())
     f += directional * coveredTransmittanceDirectional(c.clearcoat, c.clearcoatCoverage, coatO, coatI);
@@ -99,6 +101,7 @@ std::optional<BsdfSample> Bsdf::clearcoatSample(const Vec3& wo, Vec2 u2) const {
   std::optional<BsdfSample> s = coatSample(covers_.c.clearcoat, woCoat, u2);
   if (!s) return s;
   s->wi = fromClearcoat(s->wi);
+  if (!(s->wi.z * wo.z > 0.0f)) return std::nullopt;  // reflected into the surface (localEvalCovered)
   // A mirror in its own frame: F / |cos| with the cosine the integrator multiplies by, the
   // Bsdf's (the sample's f had the clearcoat's).
   if (s->specular) {

@@ -437,6 +437,19 @@ TEST(GltfExtensions, ClearcoatWithItsOwnNormalConservesEnergyAndSamplesWhatItEva
       EXPECT_LE(e.mean, 1.0 + 5.0 * e.standardError + 2e-3) << roughness << " " << theta;
       EXPECT_GT(e.mean, 0.5) << roughness << " " << theta;
     }
+    // It reflects only: no value or sample below the surface, where the tilted coat's frame
+    // still sees directions above it (a review found it reflecting into the surface: a leak).
+    const Vec3 wo = fromAngles(80.0f, float(M_PI));  // toward -x: the coat mirrors it toward +x
+    for (float theta : {92.0f, 95.0f, 100.0f}) {
+      const Vec3 below(std::sin(theta * float(M_PI) / 180.0f), 0.0f, std::cos(theta * float(M_PI) / 180.0f));
+      ASSERT_LT(below.z, 0.0f);
+      EXPECT_TRUE(s.bsdf.eval(wo, below, TransportMode::Radiance).isBlack()) << roughness << " " << theta;
+    }
+    for (int i = 0; i < 4000; ++i) {
+      const auto sample = s.bsdf.sample(wo, (float(i) + 0.5f) / 4000.0f, Vec2(float(i % 63) / 63.0f, float(i % 61) / 61.0f),
+                                        TransportMode::Radiance);
+      if (sample) EXPECT_GT(sample->wi.z, 0.0f) << roughness << " sample " << i;
+    }
   }
 }
 
