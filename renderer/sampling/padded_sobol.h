@@ -80,7 +80,7 @@ inline void paddedGroup(uint64_t pixelKey, uint32_t sampleInPixel, int group, Pa
   typedef uint32_t U4 __attribute__((vector_size(16)));
   const uint32_t d0 = uint32_t(group * kPaddedGroupSize);
   const U4 dims = {d0, d0 + 1, d0 + 2, d0 + 3};
-  const U4 seeds = lowbias32(U4{} + uint32_t(pixelKey) ^ dims * 0x9e3779b9u);
+  const U4 seeds = lowbias32((U4{} + uint32_t(pixelKey)) ^ (dims * 0x9e3779b9u));
   for (int j = 0; j < kPaddedGroupSize; ++j) out.seed[j] = seeds[j];
 }
 
