@@ -344,8 +344,12 @@ Spectrum PathTracer::radiance(const sampling::IndexSampler& samples, const Ray& 
 
     const int dim = kFirstBounceDimension + depth * kDimensionsPerBounce;
     // Next-event estimation: one light, chosen for this point (or by power).
-    const LightSampleContext lightContext = nextEventContext(bsdf, hit.p, wo);
+    // The light-choice context's normal, kept for MIS at the emitter the path finds next. Only
+    // a vertex that samples a light needs it: after any other the next emitter takes weight 1.
+    Vec3 lightContextN{0.0f};
     if (settings_.nextEventEstimation && bsdf.hasNonSpecular() && lightSampler.size() > 0) {
+      const LightSampleContext lightContext = nextEventContext(bsdf, hit.p, wo);
+      lightContextN = lightContext.n;
       // By power, the alias table needs more than the sampler's 24 bits (AliasTable::sample):
       // independent low bits below the stratified ones.
       double uChoice = samples.get(dim + kLightChoice);
@@ -438,7 +442,7 @@ Spectrum PathTracer::radiance(const sampling::IndexSampler& samples, const Ray& 
     if (!throughWall) {  // past a wall, the vertex before it keeps its light-choice context too
       specularBounce = bs->specular;
       prevP = hit.p;
-      prevN = lightContext.n;
+      prevN = lightContextN;
     }
     spawnRayInto(ray, hit.p, hit.ng, hit.pError, bs->wi);
 
