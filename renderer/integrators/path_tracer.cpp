@@ -350,11 +350,10 @@ Spectrum PathTracer::radiance(const sampling::IndexSampler& samples, const Ray& 
     if (settings_.nextEventEstimation && bsdf.hasNonSpecular() && lightSampler.size() > 0) {
       const LightSampleContext lightContext = nextEventContext(bsdf, hit.p, wo);
       lightContextN = lightContext.n;
-      // By power, the alias table needs more than the sampler's 24 bits (AliasTable::sample):
+      // Both choices need more than the sampler's 24 bits (AliasTable::sample, LightBvh::sample):
       // independent low bits below the stratified ones.
-      double uChoice = samples.get(dim + kLightChoice);
-      if (settings_.lightSelection == LightSelection::Power)
-        uChoice += double(samples.independent(kLightChoiceLowBitsStream + uint64_t(depth))) * 0x1p-24;
+      const double uChoice = double(samples.get(dim + kLightChoice)) +
+                             double(samples.independent(kLightChoiceLowBitsStream + uint64_t(depth))) * 0x1p-24;
       const auto choice = lightSampler.sample(settings_.lightSelection, lightContext, uChoice);
       if (choice) {
         const Light& light = *lights[size_t(choice->first)];

@@ -14,7 +14,7 @@ constexpr int kBuckets = 12;
 // Past this depth splits halve the count, so that every light's path fits 64 bits (a
 // degenerate heuristic split peels one light at a time).
 constexpr int kHeuristicDepth = 40;  // at most; fewer for huge light counts (heuristicDepth_)
-constexpr float kOneMinusEpsilon = 0x1.fffffep-1f;
+constexpr double kOneMinusEpsilon = 0x1.fffffffffffffp-1;
 
 // The heuristic's cost of a cluster: power x the solid-angle measure of its emission cone
 // (M_Omega, Conty Estevez and Kulla eq. 1) x its box's area, x a penalty for splitting a
@@ -221,7 +221,7 @@ int LightBvh::build(std::vector<Entry>& entries, size_t begin, size_t end, uint6
   c[1] = lightImportance(ctx, b.center, b.radius, b.w, b.phi, b.cosThetaO, b.sinThetaO, b.cosThetaE, b.twoSided != 0);
 }
 
-bool LightBvh::descend(const LightSampleContext& ctx, float u, int& light, float& pmf) const {
+bool LightBvh::descend(const LightSampleContext& ctx, double u, int& light, float& pmf) const {
   if (nodes_.empty()) return false;
   int node = 0;
   pmf = 1.0f;
@@ -232,16 +232,18 @@ bool LightBvh::descend(const LightSampleContext& ctx, float u, int& light, float
     childImportances(ctx, node, c);
     const float total = c[0] + c[1];
     if (!(total > 0.0f)) return false;
-    // u scaled to [0, total): one division on the chain from one level's u to the next (the
+    // u scaled to [0, c0 + c1): one division on the chain from one level's u to the next (the
     // probabilities below are off it). A child of importance 0 is never chosen, also when
-    // u x total rounds up to total.
-    const float scaled = u * total;
-    if (scaled < c[0] || c[1] == 0.0f) {
-      u = std::min(scaled / c[0], kOneMinusEpsilon);
+    // u x total rounds up to total. In double, and the sum too: a child of 1e-6 of its
+    // sibling's importance spans only about 13 ulps of a float total, whose rounding had given
+    // it an interval of u 3 % narrower than the pmf it reports.
+    const double scaled = u * (double(c[0]) + double(c[1]));
+    if (scaled < double(c[0]) || c[1] == 0.0f) {
+      u = std::min(scaled / double(c[0]), kOneMinusEpsilon);
       pmf *= c[0] / total;
       node = node + 1;
     } else {
-      u = std::min((scaled - c[0]) / c[1], kOneMinusEpsilon);
+      u = std::min((scaled - double(c[0])) / double(c[1]), kOneMinusEpsilon);
       pmf *= c[1] / total;
       node = int(nodes_[size_t(node)].childOrLight);
     }

@@ -30,15 +30,18 @@ class LightBvh {
 
   bool empty() const { return nodes_.empty(); }
   // A light chosen at ctx with u in [0, 1), and its probability among the tree's lights;
-  // nullopt when no light in the tree can reach ctx (every importance 0).
-  std::optional<std::pair<int, float>> sample(const LightSampleContext& ctx, float u) const {
+  // nullopt when no light in the tree can reach ctx (every importance 0). u in double: each
+  // level rescales it, so a subtree of probability p gets p times u's resolution; from a 24-bit
+  // float a far cluster of 16384 dim lights (p about 2e-6) could choose only 17 of them
+  // (LightBvhSampler.LightsOfTinyTotalProbabilityAreAllReachable).
+  std::optional<std::pair<int, float>> sample(const LightSampleContext& ctx, double u) const {
     int light;
     float pmf;
     if (!choose(ctx, u, light, pmf)) return std::nullopt;
     return std::make_pair(light, pmf);
   }
   // sample() with plain results (false: no light), as AliasTable::choose.
-  bool choose(const LightSampleContext& ctx, float u, int& light, float& pmf) const {
+  bool choose(const LightSampleContext& ctx, double u, int& light, float& pmf) const {
     if (!flat_.empty()) return flat_.choose(u, light, pmf);
     return descend(ctx, u, light, pmf);
   }
@@ -74,7 +77,7 @@ class LightBvh {
  private:
   static bool onePlane(const std::vector<Entry>& entries);
   int build(std::vector<Entry>& entries, size_t begin, size_t end, uint64_t trail, int depth);
-  bool descend(const LightSampleContext& ctx, float u, int& light, float& pmf) const;
+  bool descend(const LightSampleContext& ctx, double u, int& light, float& pmf) const;
   float retrace(const LightSampleContext& ctx, int light) const;
 
   // The importances of an interior node's two children at ctx (one function for sample() and

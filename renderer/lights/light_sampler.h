@@ -36,19 +36,21 @@ class LightSampler {
 
   // By context: a light and its probability; nullopt when none can be chosen (no light with
   // power, or no bounded light can reach ctx and there is no infinite light). u in [0, 1).
-  // Inline, as the power choice was, so that the optional pair can stay in registers.
-  std::optional<std::pair<int, float>> sample(const LightSampleContext& ctx, float u) const {
+  // Inline, as the power choice was, so that the optional pair can stay in registers. u in
+  // double, as the tree needs (LightBvh::sample).
+  std::optional<std::pair<int, float>> sample(const LightSampleContext& ctx, double u) const {
     // One pair built at the end: pairs copied between branches went through memory.
     int light = -1;
     float pmf = 0.0f;
     bool chosen = false;
-    if (u < pInfinite_) {
-      const int k = std::min(int(u / pInfinite_ * float(infinite_.size())), int(infinite_.size()) - 1);
+    if (u < double(pInfinite_)) {
+      const int k = std::min(int(u / double(pInfinite_) * double(infinite_.size())), int(infinite_.size()) - 1);
       light = infinite_[size_t(k)];
       pmf = pEachInfinite_;
       chosen = true;
     } else {
-      const float uTree = pInfinite_ > 0.0f ? std::min((u - pInfinite_) / (1.0f - pInfinite_), 0x1.fffffep-1f) : u;
+      const double uTree =
+          pInfinite_ > 0.0f ? std::min((u - double(pInfinite_)) / (1.0 - double(pInfinite_)), 0x1.fffffffffffffp-1) : u;
       chosen = bvh_.choose(ctx, uTree, light, pmf);
       pmf *= 1.0f - pInfinite_;
     }
@@ -68,7 +70,7 @@ class LightSampler {
 
   // Either, as the path tracer's setting says.
   std::optional<std::pair<int, float>> sample(LightSelection selection, const LightSampleContext& ctx, double u) const {
-    return selection == LightSelection::Power ? samplePower(u) : sample(ctx, std::min(float(u), 0x1.fffffep-1f));
+    return selection == LightSelection::Power ? samplePower(u) : sample(ctx, u);
   }
   float pmf(LightSelection selection, const LightSampleContext& ctx, int lightIndex) const {
     return selection == LightSelection::Power ? pmfPower(lightIndex) : pmf(ctx, lightIndex);

@@ -295,6 +295,75 @@ TEST(LightBvhSampler, PmfSumsToOneAndSampleReportsItExactly) {
   }
 }
 
+// A bright lamp beside a far cluster of 16384 dim ones: at the point the cluster's lights
+// together have probability about 2e-6, which a 24-bit u covers with about 30 values. The
+// descent rescales u at every level, so from a float at most those 30 of the cluster's lights
+// could ever be chosen, while pmf() promised each its share (their light was missing from light
+// samples: a bias). With u in double (the path tracer adds independent low bits to the
+// sampler's 24), every light of the cluster is chosen as often as its pmf says.
+TEST(LightBvhSampler, LightsOfTinyTotalProbabilityAreAllReachable) {
+  LightSet set;
+  std::string error;
+  const auto addPoint = [&](const Vec3& position, float intensity) {
+    LightDesc desc;
+    desc.kind = LightDesc::Kind::Point;
+    desc.position = position;
+    desc.emission.kind = SpectrumDesc::Kind::Constant;
+    desc.emission.value = 1.0f;
+    desc.intensity = intensity;
+    std::unique_ptr<Light> light = makeLight(desc, error);
+    ASSERT_TRUE(light) << error;
+    LightSet::Shape shape;
+    shape.kind = LightSet::Shape::Kind::Point;
+    shape.p[0] = position;
+    set.add(std::move(light), shape);
+  };
+  addPoint(Vec3(0.0f), 1e4f);
+  constexpr int kSide = 128;  // the cluster: kSide^2 lamps 100 units away
+  for (int j = 0; j < kSide; ++j)
+    for (int i = 0; i < kSide; ++i) addPoint(Vec3(100.0f, float(i) * 0.1f, float(j) * 0.1f), 0.01f);
+  const LightSampler sampler(set.pointers);
+  LightSampleContext ctx;
+  ctx.p = Vec3(-1.0f, 0.0f, 0.0f);
+  double clusterPmf = 0;
+  for (int i = 1; i < sampler.size(); ++i) clusterPmf += sampler.pmf(ctx, i);
+  ASSERT_GT(clusterPmf, 0.0);
+  ASSERT_LT(clusterPmf * 0x1p24, 100.0);  // the case this test is about
+  // The cluster's interval of u lies at one end of [0, 1) (the root's children: lamp,
+  // cluster). Its other end, found by bisection: the lamp's float pmf, 1 - 1.6e-6 to within
+  // 6e-8, would misplace it by up to 4 % of its width.
+  const bool clusterLow = sampler.sample(ctx, 0.0)->first != 0;
+  ASSERT_NE(clusterLow, sampler.sample(ctx, 1.0 - 0x1p-53)->first != 0);
+  double lamp = clusterLow ? 1.0 - 0x1p-53 : 0.0, cluster = clusterLow ? 0.0 : 1.0 - 0x1p-53;
+  for (int k = 0; k < 64; ++k) {
+    const double middle = 0.5 * (lamp + cluster);
+    (sampler.sample(ctx, middle)->first != 0 ? cluster : lamp) = middle;
+  }
+  const double begin = clusterLow ? 0.0 : cluster, width = clusterLow ? cluster : 1.0 - cluster;
+  EXPECT_NEAR(width, clusterPmf, 1e-4 * clusterPmf);
+  sampling::Pcg32 rng(41, 2);
+  constexpr int kDraws = 1 << 20;
+  std::vector<double> observed(size_t(sampler.size() - 1), 0.0), expected(observed.size(), 0.0);
+  int inCluster = 0;
+  for (int k = 0; k < kDraws; ++k) {
+    const double r = (double(rng.nextBits()) + double(rng.nextBits()) * 0x1p-32) * 0x1p-32;
+    const auto pick = sampler.sample(ctx, begin + width * r);
+    ASSERT_TRUE(pick);
+    if (pick->first == 0) continue;
+    ++inCluster;
+    observed[size_t(pick->first - 1)] += 1;
+  }
+  EXPECT_EQ(inCluster, kDraws);
+  int reached = 0;
+  for (size_t i = 0; i < observed.size(); ++i) {
+    reached += observed[i] > 0;
+    expected[i] = double(sampler.pmf(ctx, int(i) + 1)) / clusterPmf * inCluster;
+  }
+  EXPECT_EQ(reached, kSide * kSide);
+  const ::tex::test::ChiSquareResult r = ::tex::test::chiSquareTest(observed, expected);
+  EXPECT_TRUE(r.passed) << r.detail;
+}
+
 // Brute force: a light can light ctx if one of its points lies on n's side of p (any side
 // without a normal) and emits toward p. Every such light must have pmf > 0.
 TEST(LightBvhSampler, EveryLightThatCanReachThePointHasPositivePmf) {
