@@ -184,7 +184,9 @@ TEST(AliasTable, ChoicesFollowTheWeights) {
   }
   for (size_t i = 0; i < weights.size(); ++i) {
     expected[i] = weights[i] / total * kSamples;
-    if (weights[i] == 0.0f) EXPECT_EQ(observed[i], 0.0) << i;
+    if (weights[i] == 0.0f) {
+      EXPECT_EQ(observed[i], 0.0) << i;
+    }
   }
   const ::tex::test::ChiSquareResult r = ::tex::test::chiSquareTest(observed, expected);
   EXPECT_TRUE(r.passed) << r.detail;
@@ -260,7 +262,9 @@ TEST(LightBvhSampler, PmfSumsToOneAndSampleReportsItExactly) {
   const auto checkReports = [&](const LightSampler& sampler, const LightSampleContext& ctx, const std::string& where) {
     for (int k = 0; k < 50; ++k) {
       const auto pick = sampler.sample(ctx, rng.nextFloat());
-      if (pick) ASSERT_EQ(pick->second, sampler.pmf(ctx, pick->first)) << where << " light " << pick->first;
+      if (pick) {
+        ASSERT_EQ(pick->second, sampler.pmf(ctx, pick->first)) << where << " light " << pick->first;
+      }
     }
   };
   const auto pmfSum = [](const LightSampler& sampler, const LightSampleContext& ctx) {
@@ -608,7 +612,9 @@ std::unique_ptr<ManyLamps> buildManyLamps(int side) {
   std::string error;
   m->rs = RenderScene::build(m->scene, o, error);
   EXPECT_TRUE(m->rs) << error;
-  if (m->rs) EXPECT_EQ(m->rs->triangleLightCount(), 2 * side * side);
+  if (m->rs) {
+    EXPECT_EQ(m->rs->triangleLightCount(), 2 * side * side);
+  }
   return m;
 }
 
