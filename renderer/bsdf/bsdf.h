@@ -135,6 +135,11 @@ class Bsdf {
   bool setClearcoat(const Lobe& interface, const Spectrum& coverage);
   void setClearcoatFrame(const Frame& worldFrame);
   bool hasClearcoat() const { return covered_ && covers_.c.hasClearcoat; }
+  // What reaches wo (world) of an emission under the clearcoat: 1 - k F(cos) per lane, the
+  // coat's Fresnel at wo's cosine with its own normal (KHR_materials_clearcoat: "coated_emission
+  // = emission (1 - clearcoat clearcoat_fresnel)", with the exact Fresnel as the coat's other
+  // factors). 1 without a clearcoat.
+  Spectrum clearcoatEmissionFactor(const Vec3& woWorld) const;
   const Lobe& clearcoat() const { return covers_.c.clearcoat; }
   // A sheen cover: every lobe but the Sheen lobes (the sheen itself, added as a lobe) and the
   // coat are scaled by what a sheen of this colour (per lane) and alpha does not reflect.

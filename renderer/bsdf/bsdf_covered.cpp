@@ -96,6 +96,12 @@ Spectrum Bsdf::coverFactorOfSpecular(int chosen, const Vec3& wo, const Vec3& wi)
   return factor;
 }
 
+Spectrum Bsdf::clearcoatEmissionFactor(const Vec3& woWorld) const {
+  if (!hasClearcoat()) return Spectrum(1.0f);
+  const float cosCoat = std::fabs(toClearcoat(frame_.toLocal(woWorld)).z);
+  return coveredTransmittanceDirectional(covers_.c.clearcoat, covers_.c.clearcoatCoverage, cosCoat, cosCoat);
+}
+
 std::optional<BsdfSample> Bsdf::clearcoatSample(const Vec3& wo, Vec2 u2) const {
   const Vec3 woCoat = toClearcoat(wo);
   std::optional<BsdfSample> s = coatSample(covers_.c.clearcoat, woCoat, u2);

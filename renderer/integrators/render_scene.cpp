@@ -16,6 +16,7 @@ struct RenderScene::Emission final : EmissionSource {
   int material = -1;
   bool readsHit_ = false;  // the material's emission may depend on its Hit
   bool cutOut_ = false;    // some emitter of it has a glTF alphaMode: light samples see its coverage
+  bool underClearcoat_ = false;  // MaterialSystem::emissionUnderClearcoat: darkened by direction
   Spectrum radiance(const EmitterPoint& point, const Wavelengths& lambda) const override {
     // Rays pass through cut-out parts (MASK) and through blended ones with probability
     // 1 - alpha (BLEND), so the emission they find is coverage x radiance on average; light
@@ -31,9 +32,16 @@ struct RenderScene::Emission final : EmissionSource {
     // A light sample's emission must be the one a ray hitting the same point sees (the path
     // tracer weighs the two by MIS): for materials that read their Hit, the whole shading
     // point (interpolated normal, both uv sets, tangent...) as a hit would give it.
-    if (readsHit_ && point.instance >= 0) {
+    if ((readsHit_ || underClearcoat_) && point.instance >= 0) {
       SurfaceHit hit;
       geometry->surfaceAt(point.instance, point.triangle, point.b12.x, point.b12.y, hit);
+      if (underClearcoat_ && point.w != Vec3(0.0f)) {
+        // The whole material, as a hit shades it (path_tracer.cpp), for its clearcoat's factor.
+        Bsdf bsdf(Frame::fromNormalTangent(hit.ns, hit.dpdu), hit.ng);
+        Spectrum emitted;
+        materials->shade(material, shadingPoint(hit), lambda, bsdf, emitted);
+        return emitted.isBlack() || !bsdf.hasClearcoat() ? emitted : emitted * bsdf.clearcoatEmissionFactor(point.w);
+      }
       return materials->emission(material, shadingPoint(hit), lambda);
     }
     // Otherwise the emission does not depend on the point (position and normal for form's sake).
@@ -43,7 +51,7 @@ struct RenderScene::Emission final : EmissionSource {
     return materials->emission(material, sp, lambda);
   }
   float averageRadiance() const override { return materials->averageEmission(material); }
-  bool readsHit() const override { return readsHit_ || cutOut_; }
+  bool readsHit() const override { return readsHit_ || cutOut_ || underClearcoat_; }
   float radianceEstimate(const EmitterPoint& point) const override {
     if (!readsHit()) return averageRadiance();
     // The wavelength group MaterialSystem probes materials with, for a deterministic estimate.
@@ -150,6 +158,7 @@ std::unique_ptr<RenderScene> RenderScene::build(const SceneDescription& scene, c
       e->geometry = rs->geometry_.get();
       e->material = slot;
       e->readsHit_ = rs->materials_->readsHit(slot);
+      e->underClearcoat_ = rs->materials_->emissionUnderClearcoat(slot);
       emissionOfMaterial[slot] = e.get();
       rs->emissionSources_.push_back(std::move(e));
     }

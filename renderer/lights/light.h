@@ -62,6 +62,9 @@ struct EmitterPoint {
   int instance = -1;
   uint32_t triangle = 0;
   Vec2 b12{0.0f};
+  // The direction the radiance leaves in (unit, world), for emissions that depend on it (under
+  // a clearcoat); 0: not known (an average over directions is wanted).
+  Vec3 w{0.0f};
 };
 
 // The emission of area lights comes from the surface's material (a compiled .tex closure or a

@@ -87,7 +87,9 @@ void TriangleLight::placeOnGeometry(EmitterPoint& e, Vec2 b) const {
 
 Spectrum TriangleLight::L(const EmitterPoint& point, const Vec3& w, const Wavelengths& lambda) const {
   if (!emission_ || !(desc_.twoSided || dot3(w, n_) > 0.0f)) return Spectrum();
-  return emission_->radiance(point, lambda);
+  EmitterPoint toward = point;
+  toward.w = w;
+  return emission_->radiance(toward, lambda);
 }
 
 std::optional<LightLiSample> TriangleLight::sampleLiDeferred(const Vec3& refPoint, Vec2 u, const Wavelengths& lambda) const {
@@ -140,6 +142,7 @@ Spectrum TriangleLight::deferredRadiance(const LightLiSample& sample, const Wave
   e.p = sample.pLight;
   e.n = n_;
   e.primitive = desc_.primitive;
+  e.w = -sample.wi;
   if (emissionReadsHit_) placeOnGeometry(e, barycentricsOf(sample.pLight));
   return emission_->radiance(e, lambda);
 }
@@ -168,7 +171,7 @@ float TriangleLight::pdfLi(const Vec3& refPoint, const Vec3& wi, const EmitterPo
 
 std::optional<LightLeSample> TriangleLight::sampleLe(Vec2 uPos, Vec2 uDir, const Wavelengths& lambda) const {
   if (!(area_ > 0.0f) || !emission_) return std::nullopt;
-  const EmitterPoint e = pointAt(sampleUniformTriangle(uPos));
+  EmitterPoint e = pointAt(sampleUniformTriangle(uPos));
   // A two-sided triangle picks its side with uDir.x (then stretched back to [0,1)).
   Vec3 side = n_;
   float sideProbability = 1.0f;
@@ -187,6 +190,7 @@ std::optional<LightLeSample> TriangleLight::sampleLe(Vec2 uPos, Vec2 uDir, const
   s.ray.origin = e.p;
   s.ray.direction = Frame::fromNormal(side).toWorld(wLocal);
   s.nLight = side;
+  e.w = s.ray.direction;
   s.L = emission_->radiance(e, lambda);
   s.pdfPosA = pdfA_;
   s.pdfDirW = sideProbability * cosineHemispherePdfW(wLocal.z);

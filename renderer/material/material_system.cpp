@@ -247,6 +247,12 @@ bool MaterialSystem::emitsBothSides(int material) const {
   return im.gltf(s) && im.bindingOfMaterial[size_t(s)] < 0 && im.gltf(s)->doubleSided;
 }
 
+bool MaterialSystem::emissionUnderClearcoat(int material) const {
+  const Impl& im = *impl_;
+  const int s = im.slot(material);
+  return im.gltf(s) && im.bindingOfMaterial[size_t(s)] < 0 && im.gltf(s)->clearcoatFactor > 0.0f && isEmissive(material);
+}
+
 bool MaterialSystem::interiorAbsorption(int material, const Wavelengths& lambda, Spectrum& sigmaA) const {
   const Impl& im = *impl_;
   const int s = im.slot(material);
