@@ -98,6 +98,11 @@ class Passes:
             channels += [var_pass[..., k] / passes for k in range(3)]
             names += ["variance.R", "variance.G", "variance.B"]
         data = np.ascontiguousarray(np.stack(channels, axis=-1).astype(np.float32))
+        # Mitsuba 3.9's EXR writer waits on Dr.Jit's thread pool: with one thread (--threads 1)
+        # write() never returned. The timing is over, so the pool may grow for the write.
+        import drjit as dr
+        if dr.thread_count() < 2:
+            dr.set_thread_count(2)
         mi.Bitmap(data, mi.Bitmap.PixelFormat.MultiChannel, names).write(path)
 
 
