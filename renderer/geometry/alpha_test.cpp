@@ -48,14 +48,22 @@ void AlphaTest::embreeFilter(const RTCFilterFunctionNArguments* args) {
     if (args->valid[i] != -1) continue;
     const uint32_t primID = RTCHitN_primID(args->hit, args->N, i);
     const float u = RTCHitN_u(args->hit, args->N, i), v = RTCHitN_v(args->hit, args->N, i);
-    // The ray's own numbers make BLEND's choice: the same ray decides the same way every time.
+    // The ray's own numbers and the triangle's identity make BLEND's choice: the same ray
+    // decides the same way at the same triangle every time (closest-hit and shadow rays agree),
+    // and independently at each triangle it meets. (Until round 18 the triangle's index went
+    // into bits the choice never read: every BLEND surface along a ray decided alike, and no
+    // ray passed one BLEND layer to stop at another.)
     float words[6] = {RTCRayN_org_x(args->ray, args->N, i), RTCRayN_org_y(args->ray, args->N, i),
                       RTCRayN_org_z(args->ray, args->N, i), RTCRayN_dir_x(args->ray, args->N, i),
                       RTCRayN_dir_y(args->ray, args->N, i), RTCRayN_dir_z(args->ray, args->N, i)};
     uint32_t bits[6];
     std::memcpy(bits, words, sizeof bits);
-    const uint64_t hash = sampling::hashWords((uint64_t(bits[0]) << 32) | bits[1], (uint64_t(bits[2]) << 32) | bits[3],
-                                              (uint64_t(bits[4]) << 32) | bits[5]) ^ primID;
+    const uint64_t geometry =
+        (uint64_t(RTCHitN_instID(args->hit, args->N, i, 0)) << 32) | RTCHitN_geomID(args->hit, args->N, i);
+    const uint64_t hash = sampling::hashWords(
+        sampling::hashWords((uint64_t(bits[0]) << 32) | bits[1], (uint64_t(bits[2]) << 32) | bits[3],
+                            (uint64_t(bits[4]) << 32) | bits[5]),
+        geometry, primID);
     if (!test->opaque(primID, u, v, uint32_t(hash >> 32))) args->valid[i] = 0;
   }
 }
