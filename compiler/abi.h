@@ -14,8 +14,8 @@ enum class ClosureKind : uint32_t {
   Diffuse = 1,
   Emission = 2,
   Mix = 3,
-  Dielectric = 4,        // params: IOR; scalars[0]: GGX roughness alpha (0 = smooth)
-  Conductor = 5,         // params: eta, params2: k; scalars[0]: GGX roughness alpha
+  Dielectric = 4,        // params: IOR; scalars[0]: GGX roughness alpha (0 = smooth); [1], [2]: kClosureAnisotropic
+  Conductor = 5,         // params: eta, params2: k; scalars[0]: GGX roughness alpha; [1], [2]: kClosureAnisotropic
   ThinDielectric = 6,    // params: IOR of a thin slab (no refraction offset); params2: transmission tint; scalars[0]: GGX alpha
   Glossy = 7,            // params: reflectance; scalars[0]: exponent n of the glossy model
   GlossyDielectric = 8,  // params: IOR; scalars[0]: exponent n
@@ -30,6 +30,10 @@ enum class ClosureParam : uint32_t { None = 0, Color = 1, Spectrum = 2 };
 // from the program, docs/abi.md): e.g. a dispersive IOR, for which the renderer keeps only
 // the hero wavelength of a path after refraction.
 constexpr uint32_t kClosureVariesWithWavelength = 1u << 0;
+// ClosureNode::flags bit 1 (Dielectric, Conductor): anisotropic roughness; scalars[0] is the GGX
+// alpha along the surface's u direction turned by scalars[2] radians toward v, scalars[1] the
+// alpha across it. Without the bit scalars[1..2] are 0 and the roughness is isotropic.
+constexpr uint32_t kClosureAnisotropic = 1u << 1;
 
 struct ClosureNode {
   ClosureKind kind;

@@ -758,10 +758,13 @@ class Codegen {
     };
     if (shape.params > 0) vectorParam(offsetof(ClosureNode, paramKind), offsetof(ClosureNode, params));
     if (shape.params > 1) vectorParam(offsetof(ClosureNode, param2Kind), offsetof(ClosureNode, params2));
-    for (int i = 0; i < shape.scalars; ++i)
+    const int scalars = lang::ir::materialScalarCount(n, shape);
+    for (int i = 0; i < scalars; ++i)
       b_.CreateStore(a[operand++], at(offsetof(ClosureNode, scalars) + 4 * size_t(i)));
     if (shape.weight) b_.CreateStore(a[operand++], at(offsetof(ClosureNode, weight)));
-    if (shape.params > 0) b_.CreateStore(b_.getInt32(dependence_.flags(dependenceContext_, n)), at(offsetof(ClosureNode, flags)));
+    const uint32_t anisotropic = scalars != shape.scalars ? kClosureAnisotropic : 0u;
+    if (shape.params > 0)
+      b_.CreateStore(b_.getInt32(dependence_.flags(dependenceContext_, n) | anisotropic), at(offsetof(ClosureNode, flags)));
     b_.CreateAlignedStore(b_.CreateAdd(count, b_.getInt32(1)), countPtr, llvm::Align(4));
     b_.CreateBr(done);
 

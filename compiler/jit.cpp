@@ -36,7 +36,7 @@ namespace tex::compiler {
 namespace {
 
 // Bump on every change to code generation: it is part of every cache key.
-constexpr const char* kCompilerVersion = "tex-compiler-19";  // 19: image handles carry the file identity
+constexpr const char* kCompilerVersion = "tex-compiler-20";  // 20: anisotropic roughness (closure flag bit 1)
 
 std::string errorText(llvm::Error error) { return llvm::toString(std::move(error)); }
 

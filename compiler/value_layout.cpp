@@ -6,6 +6,10 @@
 
 namespace tex::compiler {
 
+static_assert(lang::kMaterialAnisotropic == kClosureAnisotropic &&
+                  lang::kMaterialVariesWithWavelength == kClosureVariesWithWavelength,
+              "the interpreter's material flags are the ABI's");
+
 // The interpreter's material kinds are the ABI's closure kinds.
 static_assert(uint32_t(lang::MaterialNode::Kind::Diffuse) == uint32_t(ClosureKind::Diffuse) &&
                   uint32_t(lang::MaterialNode::Kind::Emission) == uint32_t(ClosureKind::Emission) &&
@@ -63,7 +67,8 @@ std::shared_ptr<const lang::MaterialNode> materialFromArena(const ClosureArena* 
   if (shape->children > 1) m->b = materialFromArena(arena, node.b, wavelengths, index, built);
   if (shape->params > 0) param(node.paramKind, node.params, m->paramType, m->param);
   if (shape->params > 1) param(node.param2Kind, node.params2, m->param2Type, m->param2);
-  for (int i = 0; i < shape->scalars; ++i) m->scalars[i] = node.scalars[i];
+  const int scalars = (node.flags & kClosureAnisotropic) && shape->anisotropicScalars ? shape->anisotropicScalars : shape->scalars;
+  for (int i = 0; i < scalars; ++i) m->scalars[i] = node.scalars[i];
   if (shape->weight) m->weight = node.weight;
   built[size_t(index)] = m;
   return m;

@@ -41,9 +41,10 @@ const std::set<std::string>& otherBuiltins() {
 // defaults of the optional ones (which may be left out also when arguments are positional).
 const std::map<std::string, std::vector<BuiltinParam>>& namedBuiltinParams() {
   static const BuiltinParam roughness{"roughness", true, 0.0f};
+  static const BuiltinParam rotation{"rotation", true, 0.0f};  // of an anisotropic (Vec2) roughness's axes
   static const std::map<std::string, std::vector<BuiltinParam>> table = {
-      {"dielectric", {{"ior"}, roughness, {"transmission_tint", true, 1.0f}}},
-      {"conductor", {{"eta"}, {"k"}, roughness}},
+      {"dielectric", {{"ior"}, roughness, {"transmission_tint", true, 1.0f}, rotation}},
+      {"conductor", {{"eta"}, {"k"}, roughness, rotation}},
       {"thin_dielectric", {{"ior"}, roughness, {"transmission_tint", true, 1.0f}}},
       {"glossy", {{"reflectance"}, {"n"}}},
       {"glossy_dielectric", {{"ior"}, {"n"}}},
@@ -379,6 +380,20 @@ Node* Builder::builtinCall(const std::string& name, std::vector<TypedArg> args, 
       if (!x) return noOverload(expected);
     return prim(p, types.material(), std::move(operands), callSpan);
   };
+  // A roughness argument at `at` with its rotation at `rotationAt`, appended to `operands`: a
+  // Float (isotropic: one scalar, the rotation dropped) or a Vec2 (alpha along u, alpha along v)
+  // and the Float rotation of those axes in radians (three scalars: an anisotropic node). A
+  // null operand when the types do not fit.
+  auto roughnessArgs = [&](size_t at, size_t rotationAt, std::vector<Node*>& operands) {
+    if (kind(at) != TypeKind::Vec2) {
+      operands.push_back(scalar(rotationAt) ? scalar(at) : nullptr);
+      return;
+    }
+    Node* r = bindOnce(args[at].node, lets);
+    operands.push_back(swizzle(r, "x", args[at].span));
+    operands.push_back(swizzle(r, "y", args[at].span));
+    operands.push_back(scalar(rotationAt));
+  };
   if (name == "diffuse" || name == "emission") {
     if (!arity(1)) return noOverload("a Color or Spectrum");
     return material(name == "diffuse" ? Prim::MatDiffuse : Prim::MatEmission, {colorOrSpectrumArg(0)}, "a Color or Spectrum");
@@ -387,23 +402,30 @@ Node* Builder::builtinCall(const std::string& name, std::vector<TypedArg> args, 
     // The interior's IOR relative to the outside; a Float is a constant spectrum. The tint
     // filters the transmission at each crossing (glTF's coloured glass), never the reflection.
     const char* expected =
-        "(ior, roughness = 0.0, transmission_tint = 1.0): an IOR Float or Spectrum, a Float, and a Color, Spectrum or Float";
-    if (!arity(3)) return noOverload(expected);
-    return material(Prim::MatDielectric, {spectrumArg(0), colorOrSpectrumArg(2), scalar(1)}, expected);
+        "(ior, roughness = 0.0, transmission_tint = 1.0, rotation = 0.0): an IOR Float or Spectrum, a Float or Vec2, "
+        "a Color, Spectrum or Float, and a Float";
+    if (!arity(4)) return noOverload(expected);
+    std::vector<Node*> operands = {spectrumArg(0), colorOrSpectrumArg(2)};
+    roughnessArgs(1, 3, operands);
+    Node* m = material(Prim::MatDielectric, operands, expected);
+    return m->type->isError() ? m : wrapLets(lets, m);
   }
   if (name == "conductor") {
     // eta and k each a Color or Spectrum; a Float takes the other's type if that is a Color,
     // else it is a constant spectrum.
-    const char* expected = "(eta, k, roughness = 0.0), eta and k each a Color, Spectrum or Float";
-    if (!arity(3)) return noOverload(expected);
+    const char* expected =
+        "(eta, k, roughness = 0.0, rotation = 0.0), eta and k each a Color, Spectrum or Float, roughness a Float or "
+        "Vec2, rotation a Float";
+    if (!arity(4)) return noOverload(expected);
     std::vector<Node*> operands;
     for (size_t i = 0; i < 2; ++i) {
       Node* x = scalar(i);
       if (x && kind(1 - i) == TypeKind::Color) x = splatTo(x, types.color(), callSpan);
       operands.push_back(x && x->type->kind == TypeKind::Color ? x : colorOrSpectrumArg(i));
     }
-    operands.push_back(scalar(2));
-    return material(Prim::MatConductor, operands, expected);
+    roughnessArgs(2, 3, operands);
+    Node* m = material(Prim::MatConductor, operands, expected);
+    return m->type->isError() ? m : wrapLets(lets, m);
   }
   if (name == "thin_dielectric") {
     // A rough wall (roughness > 0) scatters around both the mirror and the straight-through

@@ -38,8 +38,8 @@ const MaterialEntry kMaterials[] = {
     {Prim::MatDiffuse, "diffuse", {1, 0, 1, 0, false}},
     {Prim::MatEmission, "emission", {2, 0, 1, 0, false}},
     {Prim::MatMix, "mix_material", {3, 2, 0, 0, true}},
-    {Prim::MatDielectric, "dielectric", {4, 0, 2, 1, false}},
-    {Prim::MatConductor, "conductor", {5, 0, 2, 1, false}},
+    {Prim::MatDielectric, "dielectric", {4, 0, 2, 1, false, 3}},
+    {Prim::MatConductor, "conductor", {5, 0, 2, 1, false, 3}},
     {Prim::MatThinDielectric, "thin_dielectric", {6, 0, 2, 1, false}},
     {Prim::MatGlossy, "glossy", {7, 0, 1, 1, false}},
     {Prim::MatGlossyDielectric, "glossy_dielectric", {8, 0, 1, 1, false}},
@@ -56,6 +56,13 @@ static_assert(kMaterialCount == size_t(Prim::MatSheen) - size_t(Prim::MatDiffuse
 const MaterialShape* materialShape(Prim p) {
   if (p < Prim::MatDiffuse || p > Prim::MatSheen) return nullptr;
   return &kMaterials[size_t(p) - size_t(Prim::MatDiffuse)].shape;
+}
+
+int materialScalarCount(const Node* n, const MaterialShape& shape) {
+  const size_t fixed = size_t(shape.children + shape.params + shape.scalars + (shape.weight ? 1 : 0));
+  return shape.anisotropicScalars && n->args.size() == fixed - size_t(shape.scalars) + size_t(shape.anisotropicScalars)
+             ? shape.anisotropicScalars
+             : shape.scalars;
 }
 
 const MaterialShape* materialShapeOfKind(uint32_t kind) {

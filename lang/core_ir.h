@@ -44,8 +44,8 @@ enum class Prim : uint8_t {
   MatDiffuse,   // Color|Spectrum -> Material
   MatEmission,  // Color|Spectrum -> Material
   MatMix,       // (Material, Material, Float) -> Material
-  MatDielectric,  // (ior: Spectrum (interior over exterior), roughness: Float) -> Material
-  MatConductor,   // (eta: Color|Spectrum, k: Color|Spectrum, roughness: Float) -> Material
+  MatDielectric,  // (ior: Spectrum (interior over exterior), tint, roughness: Float[, roughness_v, rotation]) -> Material
+  MatConductor,   // (eta: Color|Spectrum, k: Color|Spectrum, roughness: Float[, roughness_v, rotation]) -> Material
   MatThinDielectric,    // ior: Spectrum, roughness: Float -> Material
   MatGlossy,            // (reflectance: Color|Spectrum, n: Float) -> Material
   MatGlossyDielectric,  // (ior: Spectrum, n: Float) -> Material
@@ -69,7 +69,14 @@ struct MaterialShape {
   uint32_t kind = 0;
   int children = 0, params = 0, scalars = 0;
   bool weight = false;
+  // Dielectric and Conductor: 3, the scalars of an anisotropic roughness (alpha_u, alpha_v,
+  // rotation), which a primitive with that many scalar operands has; its node gets the
+  // anisotropic flag (docs/abi.md). 0 for the other kinds.
+  int anisotropicScalars = 0;
 };
+// The number of scalar operands of material primitive `n` (shape.scalars, or
+// shape.anisotropicScalars for an anisotropic roughness).
+int materialScalarCount(const struct Node* n, const MaterialShape& shape);
 // Null for a primitive that builds no material.
 const MaterialShape* materialShape(Prim p);
 const MaterialShape* materialShapeOfKind(uint32_t kind);

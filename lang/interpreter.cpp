@@ -330,9 +330,11 @@ class Interpreter {
       m->param2Type = n->args[at]->type;
       m->param2 = eval(n->args[at++], slots);
     }
-    for (int i = 0; i < shape.scalars; ++i) m->scalars[i] = eval(n->args[at++], slots).f[0];
+    const int scalars = ir::materialScalarCount(n, shape);
+    for (int i = 0; i < scalars; ++i) m->scalars[i] = eval(n->args[at++], slots).f[0];
     if (shape.weight) m->weight = eval(n->args[at++], slots).f[0];
     if (shape.params > 0) m->flags = leafFlags(n);
+    if (scalars != shape.scalars) m->flags |= kMaterialAnisotropic;
     Value v;
     v.material = std::move(m);
     return v;

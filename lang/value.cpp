@@ -50,7 +50,10 @@ static std::string formatMaterial(const MaterialNode* m, const WavelengthGroup& 
   if (shape->params > 1 && !tinted) parts.push_back(formatValue(m->param2, m->param2Type, group));
   bool roughness = m->kind == MaterialNode::Kind::Dielectric || m->kind == MaterialNode::Kind::Conductor ||
                    m->kind == MaterialNode::Kind::ThinDielectric;
-  for (int i = 0; i < shape->scalars; ++i) {
+  const bool anisotropic = roughness && (m->flags & kMaterialAnisotropic);
+  if (anisotropic)  // a Vec2 roughness is printed even when zero: it makes the node anisotropic
+    parts.push_back("roughness: vec2(" + formatFloat(m->scalars[0]) + ", " + formatFloat(m->scalars[1]) + ")");
+  for (int i = 0; i < shape->scalars && !anisotropic; ++i) {
     if (!roughness) parts.push_back(formatFloat(m->scalars[i]));
     else if (m->scalars[i] != 0.0f) parts.push_back("roughness: " + formatFloat(m->scalars[i]));
   }
@@ -60,6 +63,7 @@ static std::string formatMaterial(const MaterialNode* m, const WavelengthGroup& 
     for (int i = 0; i < lanesOf(m->param2Type, group); ++i) untinted = untinted && m->param2.f[i] == 1.0f;
     if (!untinted) parts.push_back("transmission_tint: " + formatValue(m->param2, m->param2Type, group));
   }
+  if (anisotropic && m->scalars[2] != 0.0f) parts.push_back("rotation: " + formatFloat(m->scalars[2]));
   if (m->flags & kMaterialVariesWithWavelength) parts.push_back("varying");
   std::string s = std::string(ir::materialBuiltinName(uint32_t(m->kind))) + "(";
   for (size_t i = 0; i < parts.size(); ++i) s += (i ? ", " : "") + parts[i];

@@ -39,12 +39,15 @@ struct MaterialNode {
   uint32_t flags = 0;                // kMaterialVariesWithWavelength (decided statically)
   std::shared_ptr<const MaterialNode> a, b;  // Mix, Layer (coat, base), Add; Scale: a
   float weight = 0;                          // Mix: weight of b
-  float scalars[4] = {};                     // roughness (Dielectric, Conductor), n (Glossy*)
+  float scalars[4] = {};                     // roughness (Dielectric, Conductor; kMaterialAnisotropic: 3), n (Glossy*)
 };
 
 // MaterialNode::flags bit 0: the node's parameters depend on the wavelength (lambda_nm); the
 // same bit as compiler::kClosureVariesWithWavelength (docs/abi.md, "Materials").
 constexpr uint32_t kMaterialVariesWithWavelength = 1;
+// Bit 1: an anisotropic roughness, scalars[0..2] = alpha along u, alpha along v, the rotation
+// of those axes (Dielectric, Conductor); compiler::kClosureAnisotropic.
+constexpr uint32_t kMaterialAnisotropic = 2;
 
 // The wavelengths at which Spectrum values are evaluated.
 struct WavelengthGroup {

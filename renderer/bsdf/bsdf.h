@@ -58,7 +58,9 @@ struct Lobe {
   bool etaVaries = false;  // eta differs between the group's wavelengths (dielectrics)
   Spectrum weight;         // multiplies the lobe's value (albedo of Lambertian)
   Spectrum a, b;           // kind-specific parameters (above)
-  float roughness = 0;     // GGX alpha (Rough*)
+  float roughness = 0;     // GGX alpha (Rough*); with roughnessY, alpha along the anisotropy axis
+  float roughnessY = 0;    // Rough* GGX alpha across the axis (0: isotropic, roughness in every direction)
+  float anisotropyRotationRad = 0;  // the axis: local x turned toward y by this angle
   float exponent = 0;      // glossiness exponent n (Glossy*)
   bool underCoat = false;  // a base lobe of a layer: attenuated by the Bsdf's coat (setCoat)
 };

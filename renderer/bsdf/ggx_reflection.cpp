@@ -28,17 +28,17 @@ bool halfVector(const Vec3& woUp, const Vec3& wiUp, Vec3& h) {
 }
 
 // D G / (4 cos_o cos_i): the Fresnel-free part of the BRDF.
-float ggxReflectionKernel(const Vec3& woUp, const Vec3& wiUp, const Vec3& h, float alpha) {
+float ggxReflectionKernel(const Vec3& woUp, const Vec3& wiUp, const Vec3& h, const GgxAlpha& alpha) {
   return ggxD(h, alpha) * ggxG(woUp, wiUp, alpha) / (4.0f * woUp.z * wiUp.z);
 }
 
 float ggxReflectionPdf(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
   Vec3 woUp, wiUp, h;
   if (!upperReflectionPair(wo, wi, woUp, wiUp) || !halfVector(woUp, wiUp, h)) return 0.0f;
-  return ggxReflectionPairPdf(woUp, h, clampGgxAlpha(lobe.roughness));
+  return ggxReflectionPairPdf(woUp, h, ggxAlphaOf(lobe));
 }
 
-float ggxReflectionPairPdf(const Vec3& woUp, const Vec3& h, float alpha) {
+float ggxReflectionPairPdf(const Vec3& woUp, const Vec3& h, const GgxAlpha& alpha) {
   const float cosOh = dot3(woUp, h);
   if (!(cosOh > 0.0f)) return 0.0f;
   const float pdfW = ggxVisibleD(woUp, h, alpha) / (4.0f * cosOh);
@@ -49,7 +49,7 @@ std::optional<Vec3> ggxReflectionDirection(const Lobe& lobe, const Vec3& wo, Vec
   if (!(std::fabs(wo.z) >= kMinCosTheta)) return std::nullopt;  // also NaN
   const float s = wo.z > 0.0f ? 1.0f : -1.0f;
   const Vec3 woUp(wo.x, wo.y, s * wo.z);
-  const Vec3 m = ggxSampleVisibleNormal(woUp, clampGgxAlpha(lobe.roughness), u2);
+  const Vec3 m = ggxSampleVisibleNormal(woUp, ggxAlphaOf(lobe), u2);
   const Vec3 wiUp = reflect(woUp, m);
   if (!(wiUp.z >= kMinCosTheta)) return std::nullopt;
   return Vec3(wiUp.x, wiUp.y, s * wiUp.z);
@@ -58,7 +58,7 @@ std::optional<Vec3> ggxReflectionDirection(const Lobe& lobe, const Vec3& wo, Vec
 Spectrum roughConductorEval(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
   Vec3 woUp, wiUp, h;
   if (!upperReflectionPair(wo, wi, woUp, wiUp) || !halfVector(woUp, wiUp, h)) return Spectrum();
-  const float kernel = ggxReflectionKernel(woUp, wiUp, h, clampGgxAlpha(lobe.roughness));
+  const float kernel = ggxReflectionKernel(woUp, wiUp, h, ggxAlphaOf(lobe));
   if (!std::isfinite(kernel)) return Spectrum();
   return lobe.weight * fresnelConductor(dot3(woUp, h), lobe.a, lobe.b) * kernel;
 }
@@ -79,7 +79,7 @@ std::optional<BsdfSample> roughConductorSample(const Lobe& lobe, const Vec3& wo,
 Spectrum ggxDielectricReflectionEval(const Lobe& lobe, const Vec3& wo, const Vec3& wi) {
   Vec3 woUp, wiUp, h;
   if (!upperReflectionPair(wo, wi, woUp, wiUp) || !halfVector(woUp, wiUp, h)) return Spectrum();
-  const float kernel = ggxReflectionKernel(woUp, wiUp, h, clampGgxAlpha(lobe.roughness));
+  const float kernel = ggxReflectionKernel(woUp, wiUp, h, ggxAlphaOf(lobe));
   if (!std::isfinite(kernel)) return Spectrum();
   const float cosOh = dot3(woUp, h);
   Spectrum f;

@@ -7,12 +7,15 @@
 #include <optional>
 
 #include "renderer/bsdf/bsdf.h"
+#include "renderer/bsdf/ggx_anisotropic.h"
 
 namespace tex::render {
 
 // Below this alpha the lobe is nearly a mirror but still has a (very peaked) density.
 inline constexpr float kMinGgxAlpha = 1e-3f;
 float clampGgxAlpha(float alpha);  // NaN / tiny -> kMinGgxAlpha
+// The lobe's clamped alphas: isotropic (roughness) unless roughnessY is set and differs.
+GgxAlpha ggxAlphaOf(const Lobe& lobe);
 
 // Normal distribution D(m) for a unit m (0 below the horizon).
 float ggxD(const Vec3& m, float alpha);
@@ -35,9 +38,9 @@ bool upperReflectionPair(const Vec3& wo, const Vec3& wi, Vec3& woUp, Vec3& wiUp)
 // The unit half vector of an upper pair; false when the two directions are opposite.
 bool halfVector(const Vec3& woUp, const Vec3& wiUp, Vec3& h);
 // D G / (4 cos_o cos_i): the Fresnel-free part of the reflection BRDF.
-float ggxReflectionKernel(const Vec3& woUp, const Vec3& wiUp, const Vec3& h, float alpha);
+float ggxReflectionKernel(const Vec3& woUp, const Vec3& wiUp, const Vec3& h, const GgxAlpha& alpha);
 // Visible-normal sampling's density of the reflected direction, D_wo(h) / (4 wo.h) (0 if not finite).
-float ggxReflectionPairPdf(const Vec3& woUp, const Vec3& h, float alpha);
+float ggxReflectionPairPdf(const Vec3& woUp, const Vec3& h, const GgxAlpha& alpha);
 float ggxReflectionPdf(const Lobe& lobe, const Vec3& wo, const Vec3& wi);
 // The reflection of wo about a visible normal drawn with u2, on wo's side (nothing when it
 // points below the surface).

@@ -49,7 +49,7 @@ bool generalizedHalfVector(const Vec3& wo, const Vec3& wi, float eta, HalfVector
 }
 
 // f for unit weight with IOR eta.
-float roughDielectricValue(const Vec3& wo, const Vec3& wi, float eta, float alpha, TransportMode mode) {
+float roughDielectricValue(const Vec3& wo, const Vec3& wi, float eta, const GgxAlpha& alpha, TransportMode mode) {
   if (!validEta(eta) || indexMatched(eta)) return 0.0f;  // index-matched: only the Dirac pass-through
   HalfVector hv;
   if (!generalizedHalfVector(wo, wi, eta, hv)) return 0.0f;
@@ -69,7 +69,7 @@ float roughDielectricValue(const Vec3& wo, const Vec3& wi, float eta, float alph
   return std::isfinite(f) ? f : 0.0f;
 }
 
-float roughDielectricDensity(const Vec3& wo, const Vec3& wi, float eta, float alpha) {
+float roughDielectricDensity(const Vec3& wo, const Vec3& wi, float eta, const GgxAlpha& alpha) {
   if (!validEta(eta) || indexMatched(eta)) return 0.0f;
   HalfVector hv;
   if (!generalizedHalfVector(wo, wi, eta, hv)) return 0.0f;
@@ -106,7 +106,7 @@ bool refractThrough(const Vec3& w, Vec3 n, float eta, Vec3& wt) {
 }  // namespace
 
 Spectrum roughDielectricEval(const Lobe& lobe, const Vec3& wo, const Vec3& wi, TransportMode mode) {
-  const float alpha = clampGgxAlpha(lobe.roughness);
+  const GgxAlpha alpha = ggxAlphaOf(lobe);
   // Transmission is filtered by the tint (b = 1 - tint), reflection never.
   const Spectrum weight = wo.z * wi.z < 0.0f ? lobe.weight * (Spectrum(1.0f) - lobe.b) : lobe.weight;
   if (!lobe.etaVaries) return weight * roughDielectricValue(wo, wi, lobe.a.v[0], alpha, mode);
@@ -119,7 +119,7 @@ Spectrum roughDielectricEval(const Lobe& lobe, const Vec3& wo, const Vec3& wi, T
 float roughDielectricPdfForLane(const Lobe& lobe, const Vec3& wo, const Vec3& wi, int lane) {
   if (lane < 0 || lane >= kLanes) return 0.0f;
   const float eta = lobe.etaVaries ? lobe.a.v[lane] : lobe.a.v[0];
-  return roughDielectricDensity(wo, wi, eta, clampGgxAlpha(lobe.roughness));
+  return roughDielectricDensity(wo, wi, eta, ggxAlphaOf(lobe));
 }
 
 std::optional<BsdfSample> roughDielectricSample(const Lobe& lobe, const Vec3& wo, float uc, Vec2 u2, TransportMode mode) {
@@ -138,7 +138,7 @@ std::optional<BsdfSample> roughDielectricSample(const Lobe& lobe, const Vec3& wo
     s.dispersive = lobe.etaVaries;
     return s;
   }
-  const float alpha = clampGgxAlpha(lobe.roughness);
+  const GgxAlpha alpha = ggxAlphaOf(lobe);
   const Vec3 wm = ggxSampleVisibleNormal(wo, alpha, u2);
   const float reflectance = fresnelDielectric(dot3(wo, wm), heroEta);
   Vec3 wi;

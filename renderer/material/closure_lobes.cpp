@@ -3,6 +3,7 @@
 #include <array>
 #include <cmath>
 
+#include "renderer/bsdf/microfacet.h"
 #include "renderer/bsdf/sheen_albedo.h"
 #include "renderer/spectra/rgb_spectrum.h"
 
@@ -120,6 +121,23 @@ struct Walker {
   float roughnessOf(const compiler::ClosureNode& node) const {
     const float r = scalarOf(node);
     return r >= 1e-3f ? std::min(r, 1.0f) : 0.0f;
+  }
+
+  // A Dielectric's or Conductor's roughness into the lobe: roughnessOf, or with
+  // kClosureAnisotropic the two alphas (each clamped as roughnessOf does; smooth when both are
+  // below 1e-3, else neither below kMinGgxAlpha: no lobe is a mirror along one axis only) and
+  // the axis' rotation. Returns whether the lobe is rough.
+  bool roughnessInto(const compiler::ClosureNode& node, Lobe& lobe) const {
+    lobe.roughness = roughnessOf(node);
+    if (!(node.flags & compiler::kClosureAnisotropic)) return lobe.roughness > 0.0f;
+    const float rv = node.scalars[1], rotation = node.scalars[2];
+    nonFiniteParam = nonFiniteParam || !std::isfinite(rv) || !std::isfinite(rotation);
+    const float alphaV = rv >= 1e-3f ? std::min(rv, 1.0f) : 0.0f;
+    if (lobe.roughness == 0.0f && alphaV == 0.0f) return false;
+    lobe.roughness = std::max(lobe.roughness, kMinGgxAlpha);
+    lobe.roughnessY = std::max(alphaV, kMinGgxAlpha);
+    lobe.anisotropyRotationRad = std::isfinite(rotation) ? rotation : 0.0f;
+    return true;
   }
 
   // The sheen's colour as a reflectance and its alpha (sheen::clampRoughness: [0.01, 1]).
@@ -249,9 +267,7 @@ struct Walker {
       case compiler::ClosureKind::Dielectric: {
         if (!bsdf) return;
         Lobe lobe;
-        const float roughness = roughnessOf(node);
-        lobe.kind = roughness > 0.0f ? LobeKind::RoughDielectric : LobeKind::SmoothDielectric;
-        lobe.roughness = roughness;
+        lobe.kind = roughnessInto(node, lobe) ? LobeKind::RoughDielectric : LobeKind::SmoothDielectric;
         lobe.weight = weight;
         iorLanes(node, lobe);
         // The transmission's tint, a filter in [0, 1] per wavelength, kept as what it takes
@@ -264,9 +280,7 @@ struct Walker {
       case compiler::ClosureKind::Conductor: {
         if (!bsdf) return;
         Lobe lobe;
-        const float roughness = roughnessOf(node);
-        lobe.kind = roughness > 0.0f ? LobeKind::RoughConductor : LobeKind::SmoothConductor;
-        lobe.roughness = roughness;
+        lobe.kind = roughnessInto(node, lobe) ? LobeKind::RoughConductor : LobeKind::SmoothConductor;
         lobe.weight = weight;
         lobe.a = param(node, ParamUse::Unbounded);
         lobe.b = clampZero(param(node, ParamUse::Unbounded, true));
@@ -369,11 +383,14 @@ struct Walker {
         // A glossy-model coat is layered as the GGX coat of matching width (alpha =
         // sqrt(2 / (n + 2)), the usual Phong-to-Beckmann/GGX correspondence): the layering's
         // energy bookkeeping is written for the GGX interface (docs/layering.md).
-        const float roughness = coatNode.kind == compiler::ClosureKind::GlossyDielectric
-                                    ? std::sqrt(2.0f / (std::max(scalarOf(coatNode), 0.0f) + 2.0f))
-                                    : roughnessOf(coatNode);
-        coat.kind = roughness > 0.0f ? LobeKind::RoughDielectric : LobeKind::SmoothDielectric;
-        coat.roughness = roughness;
+        bool rough;
+        if (coatNode.kind == compiler::ClosureKind::GlossyDielectric) {
+          coat.roughness = std::sqrt(2.0f / (std::max(scalarOf(coatNode), 0.0f) + 2.0f));
+          rough = coat.roughness > 0.0f;
+        } else {
+          rough = roughnessInto(coatNode, coat);  // an anisotropic coat keeps its two alphas
+        }
+        coat.kind = rough ? LobeKind::RoughDielectric : LobeKind::SmoothDielectric;
         coat.weight = partial ? weight * coverage : weight;
         // The coat reflects, so its direction never depends on the IOR; a varying IOR still
         // gives each lane its own Fresnel reflectance and transmittance (layer.cpp).

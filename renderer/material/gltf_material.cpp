@@ -41,6 +41,23 @@ void turnTangentWithTextureTransform(const TextureRef& ref, Vec3 n, Vec3& t, flo
   if (su * sv < 0.0f) w = -w;
 }
 
+// glTF's tangent frame at the point (glTF 2.0 3.7.2.1: bitangent = cross(normal, tangent) w;
+// without a TANGENT attribute the tangent follows increasing u and the bitangent decreasing v).
+// False when the tangent is degenerate.
+bool gltfTangentFrame(const ShadingPoint& point, const Vec3& n, Vec3& t, float& w) {
+  t = Vec3(point.tangent);
+  w = point.tangent.w;
+  if (w == 0.0f) {
+    t = point.dpdu;
+    w = dot3(glm::cross(n, t), -point.dpdv) >= 0.0f ? 1.0f : -1.0f;
+  }
+  t -= n * dot3(n, t);
+  const float tl = glm::length(t);
+  if (!(tl > 1e-8f)) return false;
+  t /= tl;
+  return true;
+}
+
 // The shading normal perturbed by a normal texture `map` of scale `scale` (glTF 2.0 3.9.3).
 Vec3 normalMappedNormal(const SceneDescription& scene, const TextureRef& map, float scale, const ShadingPoint& point,
                         Vec3& tangentOut) {
@@ -50,16 +67,9 @@ Vec3 normalMappedNormal(const SceneDescription& scene, const TextureRef& map, fl
   // Tangent frame (glTF: bitangent = cross(normal, tangent) * w). Without a TANGENT attribute,
   // the tangent follows increasing u and the bitangent decreasing v (glTF's uv origin is the
   // image's top-left corner, and normal maps have +Y up).
-  Vec3 t = Vec3(point.tangent);
-  float w = point.tangent.w;
-  if (w == 0.0f) {
-    t = point.dpdu;
-    w = dot3(glm::cross(n, t), -point.dpdv) >= 0.0f ? 1.0f : -1.0f;
-  }
-  t -= n * dot3(n, t);
-  const float tl = glm::length(t);
-  if (!(tl > 1e-8f)) return n;
-  t /= tl;
+  Vec3 t;
+  float w;
+  if (!gltfTangentFrame(point, n, t, w)) return n;
   turnTangentWithTextureTransform(map, n, t, w);
   const Vec3 b = glm::cross(n, t) * w;
   const Vec4 texel = lookupTexture(scene, map, point.uv, point.uv1, false, Vec4(0.5f, 0.5f, 1.0f, 1.0f));
@@ -81,6 +91,8 @@ Spectrum gltfEmission(const SceneDescription& scene, const GltfMaterial& m, cons
 }
 
 bool gltfReadsHit(const SceneDescription& scene, const GltfMaterial& m) {
+  // The anisotropy's direction is turned into each point's shading frame (gltfAnisotropyInto).
+  if (m.anisotropyStrength > 0.0f) return true;
   for (const TextureRef* t : {&m.baseColorTexture, &m.metallicRoughnessTexture, &m.transmissionTexture,
                               &m.emissiveTexture, &m.normalTexture, &m.clearcoatTexture, &m.clearcoatRoughnessTexture,
                               &m.clearcoatNormalTexture, &m.sheenColorTexture, &m.sheenRoughnessTexture,
@@ -131,6 +143,25 @@ GltfInputs gltfInputs(const SceneDescription& scene, const GltfMaterial& m, cons
   in.specularColor = glm::max(m.specularColorFactor * Vec3(lookupTexture(scene, m.specularColorTexture, point.uv, point.uv1, true)),
                               Vec3(0.0f));
   return in;
+}
+
+void gltfAnisotropyInto(const SceneDescription& scene, const GltfMaterial& m, const ShadingPoint& point,
+                        const Frame& shading, GltfInputs& in) {
+  if (!(m.anisotropyStrength > 0.0f)) return;
+  // The texture's default is direction (1, 0) at strength 1: texel (1, 0.5, 1).
+  const Vec4 texel = lookupTexture(scene, m.anisotropyTexture, point.uv, point.uv1, false, Vec4(1.0f, 0.5f, 1.0f, 1.0f));
+  in.anisotropyStrength = std::clamp(m.anisotropyStrength * texel.z, 0.0f, 1.0f);
+  const Vec2 texDir(texel.x * 2.0f - 1.0f, texel.y * 2.0f - 1.0f);
+  const float texAngle = texDir == Vec2(0.0f) ? 0.0f : std::atan2(texDir.y, texDir.x);
+  const float angle = m.anisotropyRotationRad + texAngle;
+  Vec3 t;
+  float w;
+  if (!gltfTangentFrame(point, shading.n, t, w)) {
+    in.anisotropyRotationRad = angle;  // no tangent: the shading frame's own x axis stands in
+    return;
+  }
+  const Vec3 direction = t * std::cos(angle) + glm::cross(shading.n, t) * w * std::sin(angle);
+  in.anisotropyRotationRad = std::atan2(dot3(direction, shading.t), dot3(direction, shading.s));
 }
 
 float gltfDispersiveIor(float ior, float dispersion, float lambdaNm) {

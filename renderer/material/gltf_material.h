@@ -9,7 +9,7 @@
 
 namespace tex::render {
 
-// The arguments of std.gltf.metallic_roughness_layers at a point (in its parameter order).
+// The arguments of std.gltf.metallic_roughness_anisotropic at a point (in its parameter order).
 struct GltfInputs {
   Vec3 baseColor{1.0f};  // baseColorFactor x sRGB-decoded texture x COLOR_0, clamped to [0, 1]
   float metallic = 0, roughness = 1, transmission = 0, ior = 1.5f, dispersion = 0;
@@ -21,15 +21,24 @@ struct GltfInputs {
   float sheenRoughness = 0;                     // (A)
   float specular = 1;                           // KHR_materials_specular (A)
   Vec3 specularColor{1.0f};                     // (sRGB-decoded RGB; may exceed 1)
+  // KHR_materials_anisotropy: strength x texture B in [0, 1], and the direction's angle in the
+  // Bsdf's shading frame (radians from its x axis toward y; gltfAnisotropyInto).
+  float anisotropyStrength = 0, anisotropyRotationRad = 0;
   // The entry's arguments after the Hit, in std.gltf's order (tex_binding.h, CompiledGltf).
-  std::array<float, 22> words() const {
+  std::array<float, 24> words() const {
     return {baseColor.x,     baseColor.y,     baseColor.z,     metallic,        roughness,          transmission,
             ior,             dispersion,      thinWalled,      emission.x,      emission.y,         emission.z,
             clearcoat,       clearcoatRoughness, sheenColor.x, sheenColor.y,    sheenColor.z,       sheenRoughness,
-            specular,        specularColor.x, specularColor.y, specularColor.z};
+            specular,        specularColor.x, specularColor.y, specularColor.z, anisotropyStrength, anisotropyRotationRad};
   }
 };
 GltfInputs gltfInputs(const SceneDescription& scene, const GltfMaterial& material, const ShadingPoint& point);
+// KHR_materials_anisotropy's strength and direction at the point: the direction (cos, sin of
+// anisotropyRotation turned by the texture's RG direction) lies in the glTF tangent frame
+// (TANGENT, or increasing u and decreasing v without one, as for normal maps) and is expressed
+// as an angle in `shading`, the Bsdf's frame (its x axis need not be the glTF tangent).
+void gltfAnisotropyInto(const SceneDescription& scene, const GltfMaterial& material, const ShadingPoint& point,
+                        const Frame& shading, GltfInputs& in);
 
 // Whether shading reads the point: some texture gltfInputs or the normal map looks up has an
 // image. Without one the inputs, and so the closure tree, are the same at every hit of a mesh

@@ -73,7 +73,8 @@ bool evaluateGltf(const MaterialSystem::Impl& im, const GltfMaterial& m, const S
     return true;
   }
   applyGltfNormalMap(*im.scene, m, point, bsdf);
-  const GltfInputs in = gltfInputs(*im.scene, m, point);
+  GltfInputs in = gltfInputs(*im.scene, m, point);
+  gltfAnisotropyInto(*im.scene, m, point, bsdf.frame(), in);
   const auto args = in.words();
   static_assert(args.size() == size_t(kGltfArgumentWords));
   const bool ok = evaluateEntry(im.gltfMaterial.entry, args.data(), kGltfArgumentWords, point, lambda, &bsdf, emission).ok;

@@ -129,20 +129,22 @@ bool compileGltfMaterial(int wavelengths, bool quick, bool useCache, CompiledGlt
   const auto start = std::chrono::steady_clock::now();
   lang::Session session;
   lang::ModuleInfo* module = session.loadSource(
-      "<gltf material>", "import std.gltf.{metallic_roughness_layers}\n"
+      "<gltf material>", "import std.gltf.{metallic_roughness_anisotropic}\n"
                          "export fn gltf_material(h: Hit, base: Color, metallic: Float, roughness: Float, "
                          "transmission: Float, ior: Float, dispersion: Float, thin_walled: Float, emission_rgb: Color, "
                          "clearcoat: Float, clearcoat_roughness: Float, sheen_color: Color, sheen_roughness: Float, "
-                         "specular: Float, specular_color: Color) -> Material =\n"
-                         "  metallic_roughness_layers(h, base, metallic, roughness, transmission, ior, dispersion, thin_walled > 0.5, "
-                         "emission_rgb, clearcoat, clearcoat_roughness, sheen_color, sheen_roughness, specular, specular_color)\n");
+                         "specular: Float, specular_color: Color, anisotropy: Float, anisotropy_rotation: Float) -> Material =\n"
+                         "  metallic_roughness_anisotropic(h, base, metallic, roughness, transmission, ior, dispersion, thin_walled > 0.5, "
+                         "emission_rgb, clearcoat, clearcoat_roughness, sheen_color, sheen_roughness, specular, specular_color, "
+                         "anisotropy, anisotropy_rotation)\n");
   auto& types = lang::TypeTable::global();
   int fn = -1;
   if (module && !session.diags().hasErrors())
     fn = session.instantiate(module, "gltf_material",
                              {types.hit(), types.color(), types.floating(), types.floating(), types.floating(),
                               types.floating(), types.floating(), types.floating(), types.color(), types.floating(),
-                              types.floating(), types.color(), types.floating(), types.floating(), types.color()},
+                              types.floating(), types.color(), types.floating(), types.floating(), types.color(),
+                              types.floating(), types.floating()},
                              {});
   const compiler::CompileOptions options = materialCompileOptions(wavelengths, quick, useCache);
   if (fn >= 0 && !session.diags().hasErrors()) out.module = compiler::compile(session.program(), {fn}, options, session.diags());

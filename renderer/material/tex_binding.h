@@ -35,16 +35,16 @@ struct CompiledBindings {
   bool cacheHit = false;
 };
 
-// std.gltf.metallic_roughness_layers compiled on its own: the material of every glTF material
-// that no binding overrides. Its arguments after the Hit are GltfInputs' fields in order
-// (renderer/material/gltf_material.h): 3 + 6 + 3 + 2 + 3 + 1 + 1 + 3 = 22 words.
+// std.gltf.metallic_roughness_anisotropic compiled on its own: the material of every glTF
+// material that no binding overrides. Its arguments after the Hit are GltfInputs' fields in order
+// (renderer/material/gltf_material.h): 3 + 6 + 3 + 2 + 3 + 1 + 1 + 3 + 2 = 24 words.
 struct CompiledGltf {
   std::unique_ptr<compiler::CompiledModule> module;
   compiler::EntryFn entry = nullptr;
   bool hitIndependent = false;  // std.gltf reads only its inputs, not the Hit (hit_dependence.h)
   double compileMs = 0;
 };
-inline constexpr int kGltfArgumentWords = 22;
+inline constexpr int kGltfArgumentWords = 24;
 bool compileGltfMaterial(int wavelengths, bool quick, bool useCache, CompiledGltf& out, std::string& error);
 
 // Returns false with rendered diagnostics in `error`.

@@ -33,6 +33,7 @@ const std::set<std::string> kSupportedExtensions = {
     "KHR_materials_ior",           "KHR_materials_dispersion",        "KHR_materials_volume",
     "KHR_lights_punctual",         "KHR_mesh_quantization",           "KHR_materials_clearcoat",
     "KHR_materials_sheen",         "KHR_materials_specular",          "KHR_materials_unlit",
+    "KHR_materials_anisotropy",
 };
 
 constexpr int kMaxNodeDepth = 1024;

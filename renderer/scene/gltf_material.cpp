@@ -1,6 +1,7 @@
 // glTF materials and texture references. Parameter meanings and defaults: glTF 2.0 section
 // 3.9 and the Khronos extension specifications (KHR_materials_emissive_strength, _transmission,
-// _ior, _dispersion, _volume, _clearcoat, _sheen, _specular, _unlit, KHR_texture_transform).
+// _ior, _dispersion, _volume, _clearcoat, _sheen, _specular, _anisotropy, _unlit,
+// KHR_texture_transform).
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -161,8 +162,8 @@ TextureRef normalTextureFromValue(GltfImport& import, const tinygltf::Value& obj
   return ref;
 }
 
-// KHR_materials_clearcoat, _sheen and _specular (the layers over the metallic-roughness base),
-// and KHR_materials_unlit.
+// KHR_materials_clearcoat, _sheen, _specular and _anisotropy (the layers over the
+// metallic-roughness base), and KHR_materials_unlit.
 bool readLayerExtension(GltfImport& import, const std::string& name, const tinygltf::Value& ext,
                         const std::string& where, GltfMaterial& out) {
   const std::string at = where + " " + name;
@@ -181,6 +182,11 @@ bool readLayerExtension(GltfImport& import, const std::string& name, const tinyg
     out.sheenRoughnessFactor = clampedFactor(import, at, "sheenRoughnessFactor",
                                              numberOr(import, at, ext, "sheenRoughnessFactor", 0.0f), 0.0f, 1.0f);
     out.sheenRoughnessTexture = textureRefFromValue(import, ext, "sheenRoughnessTexture", where);
+  } else if (name == "KHR_materials_anisotropy") {
+    out.anisotropyStrength = clampedFactor(import, at, "anisotropyStrength",
+                                           numberOr(import, at, ext, "anisotropyStrength", 0.0f), 0.0f, 1.0f);
+    out.anisotropyRotationRad = numberOr(import, at, ext, "anisotropyRotation", 0.0f);
+    out.anisotropyTexture = textureRefFromValue(import, ext, "anisotropyTexture", where);
   } else if (name == "KHR_materials_unlit") {
     out.unlit = true;  // the extension object has no properties
   } else if (name == "KHR_materials_specular") {

@@ -97,6 +97,9 @@ struct GltfMaterial {
   TextureRef specularTexture;             // (A)
   Vec3 specularColorFactor{1.0f};
   TextureRef specularColorTexture;        // (RGB, sRGB)
+  float anisotropyStrength = 0;           // KHR_materials_anisotropy, in [0, 1]
+  float anisotropyRotationRad = 0;        // the direction's angle from the tangent toward the bitangent
+  TextureRef anisotropyTexture;           // (RG: direction in tangent space, B: strength; linear)
   bool unlit = false;                     // KHR_materials_unlit: emits its base colour, scatters nothing
   enum class AlphaMode : uint8_t { Opaque, Mask, Blend } alphaMode = AlphaMode::Opaque;
   float alphaCutoff = 0.5f;

@@ -303,6 +303,36 @@ TEST_P(ClosureLanes, AlgebraNodesCarryChildrenScalarsAndFlags) {
   EXPECT_EQ(interp.material->a->b->b->flags, 0u);
 }
 
+// An anisotropic roughness (a Vec2 and a rotation, all from the Hit so nothing is folded): the
+// node carries kClosureAnisotropic and scalars (alpha_u, alpha_v, rotation) in the JIT and the
+// interpreter alike; a Float roughness beside it keeps the isotropic node (flag clear, rotation
+// dropped).
+TEST_P(ClosureLanes, AnisotropicRoughnessFillsScalarsAndTheFlag) {
+  BuiltTree t;
+  ASSERT_NO_FATAL_FAILURE(buildTree(t, "aniso.tex",
+                                    "export fn m(h: Hit, w: Spectrum) -> Material =\n"
+                                    "  add_material(conductor(0.2, 3.0, h.uv.yx, rotation: h.uv.x * 4.0),\n"
+                                    "               dielectric(1.5, h.uv.x, 1.0, h.uv.y))\n",
+                                    GetParam(), 8));
+  ASSERT_EQ(t.arena.count, 3);
+  const ClosureNode& metal = t.nodes[0];
+  ASSERT_EQ(metal.kind, ClosureKind::Conductor);
+  EXPECT_EQ(metal.flags, compiler::kClosureAnisotropic);
+  EXPECT_EQ(metal.scalars[0], 0.375f);  // h.uv.y
+  EXPECT_EQ(metal.scalars[1], 0.125f);  // h.uv.x
+  EXPECT_EQ(metal.scalars[2], 0.5f);    // h.uv.x * 4
+  EXPECT_EQ(metal.scalars[3], 0.0f);
+  const ClosureNode& glass = t.nodes[1];
+  ASSERT_EQ(glass.kind, ClosureKind::Dielectric);
+  EXPECT_EQ(glass.flags, 0u);
+  EXPECT_EQ(glass.scalars[0], 0.125f);
+  for (int i = 1; i < 4; ++i) EXPECT_EQ(glass.scalars[i], 0.0f);
+  EXPECT_EQ(t.jitText, t.interpText);
+  EXPECT_EQ(t.interp.material->a->flags, kMaterialAnisotropic);
+  EXPECT_EQ(t.interp.material->a->scalars[2], metal.scalars[2]);
+  EXPECT_EQ(t.interp.material->b->flags, 0u);
+}
+
 INSTANTIATE_TEST_SUITE_P(Wavelengths, ClosureLanes, ::testing::Values(4, 8));
 
 TEST(Closure, ConstantSpectrumArgumentsClearTheFlag) {

@@ -3,6 +3,8 @@
 // down the tree, layers put their base under the Bsdf's coat, and bad trees fail cleanly.
 #include <gtest/gtest.h>
 
+#include "renderer/bsdf/microfacet.h"
+
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -270,6 +272,47 @@ TEST(ClosureLobes, HugeGlossyExponentsAreHeldAtAMirrorsValue) {
     ASSERT_EQ(s.bsdf.lobeCount(), 1);
     EXPECT_EQ(s.bsdf.lobe(0).exponent, 1e15f);
   }
+}
+
+// A Vec2 roughness reaches the lobes as two alphas and a rotation (the conductor, the rough
+// glass, and a layer's coat); both alphas below 1e-3 are the smooth lobe; one below 1e-3 is
+// raised to kMinGgxAlpha beside a rough other; a NaN rotation is a counted failure.
+TEST(ClosureLobes, AnisotropicRoughnessMapsToTwoAlphasAndARotation) {
+  const Compiled c = compileEntries(
+      "export fn metal(h: Hit) -> Material = conductor(spectrum(0.2), spectrum(3.0), vec2(0.4, 0.05), 0.5)\n"
+      "export fn glass(h: Hit) -> Material = dielectric(1.5, vec2(0.1, 2.0), rotation: -1.0)\n"
+      "export fn coat(h: Hit) -> Material = layer(dielectric(1.5, vec2(0.3, 0.2)), diffuse(spectrum(0.5)))\n"
+      "export fn mirror(h: Hit) -> Material = conductor(spectrum(0.2), spectrum(3.0), vec2(0.0005, 0.0))\n"
+      "export fn groove(h: Hit) -> Material = conductor(spectrum(0.2), spectrum(3.0), vec2(0.0, 0.3))\n"
+      "export fn bad(h: Hit) -> Material = conductor(spectrum(0.2), spectrum(3.0), vec2(0.3, 0.1), nan)\n",
+      {"metal", "glass", "coat", "mirror", "groove", "bad"});
+  const auto& b = c.bindings.bindings;
+  ASSERT_EQ(b.size(), 6u);
+  Shaded s = shade(b[0]);
+  ASSERT_TRUE(s.result.ok);
+  ASSERT_EQ(s.bsdf.lobeCount(), 1);
+  EXPECT_EQ(s.bsdf.lobe(0).kind, LobeKind::RoughConductor);
+  EXPECT_EQ(s.bsdf.lobe(0).roughness, 0.4f);
+  EXPECT_EQ(s.bsdf.lobe(0).roughnessY, 0.05f);
+  EXPECT_EQ(s.bsdf.lobe(0).anisotropyRotationRad, 0.5f);
+  s = shade(b[1]);
+  EXPECT_EQ(s.bsdf.lobe(0).kind, LobeKind::RoughDielectric);
+  EXPECT_EQ(s.bsdf.lobe(0).roughness, 0.1f);
+  EXPECT_EQ(s.bsdf.lobe(0).roughnessY, 1.0f);  // clamped as a Float roughness is
+  EXPECT_EQ(s.bsdf.lobe(0).anisotropyRotationRad, -1.0f);
+  s = shade(b[2]);
+  ASSERT_TRUE(s.bsdf.hasCoat());
+  EXPECT_EQ(s.bsdf.coat().kind, LobeKind::RoughDielectric);
+  EXPECT_EQ(s.bsdf.coat().roughness, 0.3f);
+  EXPECT_EQ(s.bsdf.coat().roughnessY, 0.2f);
+  s = shade(b[3]);
+  EXPECT_EQ(s.bsdf.lobe(0).kind, LobeKind::SmoothConductor);
+  s = shade(b[4]);
+  EXPECT_EQ(s.bsdf.lobe(0).kind, LobeKind::RoughConductor);
+  EXPECT_EQ(s.bsdf.lobe(0).roughness, kMinGgxAlpha);
+  EXPECT_EQ(s.bsdf.lobe(0).roughnessY, 0.3f);
+  s = shade(b[5]);
+  EXPECT_FALSE(s.result.ok);
 }
 
 TEST(ClosureLobes, GlossyCoatLayersAsTheMatchingGgxCoat) {
