@@ -515,7 +515,7 @@ TEST(ClosureLobes, GltfDispersiveIorIsStdGltfs) {
 TEST(ClosureLobes, BindingFilesMustBeImportableTexModules) {
   const std::string good = test::writeTexModule("wall", "export fn m(h: Hit) -> Material = diffuse(spectrum(0.9))\n");
   const std::filesystem::path dir = std::filesystem::path(good).parent_path();
-  for (const std::string& name : {"wall.mat", "type.tex"}) {
+  for (const char* name : {"wall.mat", "type.tex"}) {
     std::ofstream(dir / name) << "export fn m(h: Hit) -> Material = diffuse(spectrum(0.0))\n";
     SceneDescription scene;
     test::bindEntriesByMaterialName(scene, (dir / name).string(), {"m"});
@@ -585,8 +585,12 @@ TEST(ClosureLobes, StraightThroughIsWhatStraightSamplesCarry) {
         const Spectrum passed = s.bsdf.straightThrough(-wo);
         for (int k = 0; k < kLanes; ++k)
           EXPECT_NEAR(carried[k] / kChoices, passed[k], 2e-4 + 1e-3 * passed[k]) << "binding " << b << ", " << thetaDeg << (below ? " below" : " above") << ", lane " << k;
-        if (b == 4) EXPECT_TRUE(passed.isBlack());
-        if (b < 4) EXPECT_GT(passed[0], 0.05f) << b;
+        if (b == 4) {
+          EXPECT_TRUE(passed.isBlack());
+        }
+        if (b < 4) {
+          EXPECT_GT(passed[0], 0.05f) << b;
+        }
       }
   }
 }

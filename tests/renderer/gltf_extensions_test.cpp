@@ -149,7 +149,9 @@ void expectSameBsdf(const Bsdf& a, const Bsdf& b, const std::string& what) {
       const auto sa = a.sample(wo, 0.37f, Vec2(0.21f, 0.64f), TransportMode::Radiance);
       const auto sb = b.sample(wo, 0.37f, Vec2(0.21f, 0.64f), TransportMode::Radiance);
       ASSERT_EQ(bool(sa), bool(sb)) << what;
-      if (sa) EXPECT_TRUE(sameBits(sa->f, sb->f) && sa->pdfW == sb->pdfW) << what;
+      if (sa) {
+        EXPECT_TRUE(sameBits(sa->f, sb->f) && sa->pdfW == sb->pdfW) << what;
+      }
     }
 }
 
@@ -367,7 +369,9 @@ TEST(GltfExtensions, ClearcoatAddsItsFresnelAndAttenuatesTheBase) {
       const double expected = cc * fresnel(mu, 1.5f) + (1.0 - cc * fresnel(mu, 1.5f)) * fresnel(mu, 1.33f);
       const Estimate e = albedo(s.bsdf, fromAngles(theta, 0.0f), 1, 100000, 5);
       EXPECT_NEAR(e.mean, expected, 5.0 * e.standardError + 1e-4) << cc << " " << theta;
-      if (theta == 0.0f) EXPECT_NEAR(expected, 0.04 * cc + (1.0 - 0.04 * cc) * fresnel(1.0f, 1.33f), 1e-6);
+      if (theta == 0.0f) {
+        EXPECT_NEAR(expected, 0.04 * cc + (1.0 - 0.04 * cc) * fresnel(1.0f, 1.33f), 1e-6);
+      }
     }
   }
 }
@@ -396,7 +400,9 @@ TEST(GltfExtensions, SpecularScalesTheDielectricFresnelAndItsColourF0) {
           const Estimate e = albedo(s.bsdf, fromAngles(theta, 0.0f), lane, 20000, 9);
           EXPECT_NEAR(e.mean, expected, 5.0 * e.standardError + 2e-4)
               << specular << " colour " << colour.x << "," << colour.y << "," << colour.z << " lane " << lane;
-          if (theta == 0.0f) EXPECT_NEAR(expected, specular * f0Lane, 1e-5);
+          if (theta == 0.0f) {
+            EXPECT_NEAR(expected, specular * f0Lane, 1e-5);
+          }
         }
       }
     }
@@ -448,7 +454,9 @@ TEST(GltfExtensions, ClearcoatWithItsOwnNormalConservesEnergyAndSamplesWhatItEva
     for (int i = 0; i < 4000; ++i) {
       const auto sample = s.bsdf.sample(wo, (float(i) + 0.5f) / 4000.0f, Vec2(float(i % 63) / 63.0f, float(i % 61) / 61.0f),
                                         TransportMode::Radiance);
-      if (sample) EXPECT_GT(sample->wi.z, 0.0f) << roughness << " sample " << i;
+      if (sample) {
+        EXPECT_GT(sample->wi.z, 0.0f) << roughness << " sample " << i;
+      }
     }
   }
 }
@@ -532,8 +540,9 @@ TEST_F(GltfExtensionsLoading, BadValuesAreClampedWithWarningsNamingThem) {
         "specularColorFactor is not 3 numbers", "specularTexture has no integer index"})
     EXPECT_TRUE(anyContains(scene->warnings, what)) << what;
   for (const std::string& w : scene->warnings)  // each names the file and the material
-    if (w.find("KHR_materials_") != std::string::npos)
+    if (w.find("KHR_materials_") != std::string::npos) {
       EXPECT_TRUE(w.find("layers.gltf: material 0") != std::string::npos) << w;
+    }
 }
 
 // KHR_materials_unlit: the surface emits its base colour (upsampled as an illuminant, so white
