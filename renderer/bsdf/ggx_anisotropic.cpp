@@ -1,6 +1,6 @@
 // Anisotropic GGX: D, Smith Lambda and visible-normal sampling with two alphas (Heitz 2014
 // eq. 85 and 86; Heitz 2018: the anisotropic stretch is (alpha_x w.x, alpha_y w.y, w.z)).
-// Isotropic alphas take microfacet.cpp's code unchanged.
+// Isotropic alphas take microfacet.cpp's code unchanged (microfacet.h dispatches).
 #include "renderer/bsdf/ggx_anisotropic.h"
 
 #include <algorithm>
@@ -9,8 +9,7 @@
 
 namespace tex::render {
 
-float ggxD(const Vec3& m, const GgxAlpha& alpha) {
-  if (alpha.isotropic()) return ggxD(m, alpha.x);
+float ggxDAnisotropic(const Vec3& m, const GgxAlpha& alpha) {
   if (!(m.z > 0.0f)) return 0.0f;
   // D = 1 / (pi ax ay (x^2 / ax^2 + y^2 / ay^2 + z^2)^2) for a unit m in the anisotropy axes.
   const Vec3 a = alpha.toAxes(m);
@@ -18,8 +17,7 @@ float ggxD(const Vec3& m, const GgxAlpha& alpha) {
   return 1.0f / (kPi * alpha.x * alpha.y * e * e);
 }
 
-float ggxLambda(const Vec3& w, const GgxAlpha& alpha) {
-  if (alpha.isotropic()) return ggxLambda(w, alpha.x);
+float ggxLambdaAnisotropic(const Vec3& w, const GgxAlpha& alpha) {
   const float cos2 = w.z * w.z;
   if (!(cos2 > 0.0f)) return INFINITY;
   const Vec3 a = alpha.toAxes(w);
@@ -28,15 +26,13 @@ float ggxLambda(const Vec3& w, const GgxAlpha& alpha) {
   return 0.5f * a2Tan2 / (std::sqrt(1.0f + a2Tan2) + 1.0f);
 }
 
-float ggxVisibleD(const Vec3& w, const Vec3& m, const GgxAlpha& alpha) {
-  if (alpha.isotropic()) return ggxVisibleD(w, m, alpha.x);
+float ggxVisibleDAnisotropic(const Vec3& w, const Vec3& m, const GgxAlpha& alpha) {
   const float cosW = std::fabs(w.z);
   if (!(cosW > 0.0f)) return 0.0f;
-  return ggxG1(w, alpha) * std::fabs(dot3(w, m)) * ggxD(m, alpha) / cosW;
+  return std::fabs(dot3(w, m)) * ggxDAnisotropic(m, alpha) / ((1.0f + ggxLambdaAnisotropic(w, alpha)) * cosW);
 }
 
-Vec3 ggxSampleVisibleNormal(const Vec3& w, const GgxAlpha& alpha, Vec2 u) {
-  if (alpha.isotropic()) return ggxSampleVisibleNormal(w, alpha.x, u);
+Vec3 ggxSampleVisibleNormalAnisotropic(const Vec3& w, const GgxAlpha& alpha, Vec2 u) {
   // As the isotropic sampler, in the anisotropy axes, with a stretch per axis.
   const Vec3 wu = alpha.toAxes(w.z < 0.0f ? -w : w);
   const Vec3 vh = glm::normalize(Vec3(alpha.x * wu.x, alpha.y * wu.y, wu.z));

@@ -23,13 +23,11 @@ struct GgxAlpha {
   Vec3 fromAxes(const Vec3& v) const { return {cosRot * v.x - sinRot * v.y, sinRot * v.x + cosRot * v.y, v.z}; }
 };
 
-float ggxD(const Vec3& m, const GgxAlpha& alpha);
-float ggxLambda(const Vec3& w, const GgxAlpha& alpha);
-inline float ggxG1(const Vec3& w, const GgxAlpha& alpha) { return 1.0f / (1.0f + ggxLambda(w, alpha)); }
-inline float ggxG(const Vec3& wo, const Vec3& wi, const GgxAlpha& alpha) {
-  return 1.0f / (1.0f + ggxLambda(wo, alpha) + ggxLambda(wi, alpha));
-}
-float ggxVisibleD(const Vec3& w, const Vec3& m, const GgxAlpha& alpha);
-Vec3 ggxSampleVisibleNormal(const Vec3& w, const GgxAlpha& alpha, Vec2 u);
+// Two different alphas only (the GgxAlpha overloads in microfacet.h dispatch, inline, so that
+// isotropic lobes pay no call for the choice).
+float ggxDAnisotropic(const Vec3& m, const GgxAlpha& alpha);
+float ggxLambdaAnisotropic(const Vec3& w, const GgxAlpha& alpha);
+float ggxVisibleDAnisotropic(const Vec3& w, const Vec3& m, const GgxAlpha& alpha);
+Vec3 ggxSampleVisibleNormalAnisotropic(const Vec3& w, const GgxAlpha& alpha, Vec2 u);
 
 }  // namespace tex::render

@@ -13,13 +13,6 @@ float clampGgxAlpha(float alpha) {
   return std::min(alpha, 1e3f);
 }
 
-GgxAlpha ggxAlphaOf(const Lobe& lobe) {
-  const float x = clampGgxAlpha(lobe.roughness);
-  if (!(lobe.roughnessY > 0.0f)) return GgxAlpha(x);
-  const float y = clampGgxAlpha(lobe.roughnessY);
-  return x == y ? GgxAlpha(x) : GgxAlpha(x, y, lobe.anisotropyRotationRad);
-}
-
 float ggxD(const Vec3& m, float alpha) {
   if (!(m.z > 0.0f)) return 0.0f;
   // D = 1 / (pi a^2 cos^4 (1 + tan^2 / a^2)^2) = 1 / (pi a^2 (sin^2 / a^2 + cos^2)^2).

@@ -15,7 +15,12 @@ namespace tex::render {
 inline constexpr float kMinGgxAlpha = 1e-3f;
 float clampGgxAlpha(float alpha);  // NaN / tiny -> kMinGgxAlpha
 // The lobe's clamped alphas: isotropic (roughness) unless roughnessY is set and differs.
-GgxAlpha ggxAlphaOf(const Lobe& lobe);
+inline GgxAlpha ggxAlphaOf(const Lobe& lobe) {
+  const float x = clampGgxAlpha(lobe.roughness);
+  if (!(lobe.roughnessY > 0.0f)) return GgxAlpha(x);
+  const float y = clampGgxAlpha(lobe.roughnessY);
+  return x == y ? GgxAlpha(x) : GgxAlpha(x, y, lobe.anisotropyRotationRad);
+}
 
 // Normal distribution D(m) for a unit m (0 below the horizon).
 float ggxD(const Vec3& m, float alpha);
@@ -30,6 +35,24 @@ inline float ggxG(const Vec3& wo, const Vec3& wi, float alpha) {
 float ggxVisibleD(const Vec3& w, const Vec3& m, float alpha);
 // Samples m ~ D_w (m.z > 0; w below is treated as -w, so that w.m < 0 for it).
 Vec3 ggxSampleVisibleNormal(const Vec3& w, float alpha, Vec2 u);
+
+// The same with a lobe's alphas (ggx_anisotropic.h): equal alphas take the functions above.
+inline float ggxD(const Vec3& m, const GgxAlpha& alpha) {
+  return alpha.isotropic() ? ggxD(m, alpha.x) : ggxDAnisotropic(m, alpha);
+}
+inline float ggxLambda(const Vec3& w, const GgxAlpha& alpha) {
+  return alpha.isotropic() ? ggxLambda(w, alpha.x) : ggxLambdaAnisotropic(w, alpha);
+}
+inline float ggxG1(const Vec3& w, const GgxAlpha& alpha) { return 1.0f / (1.0f + ggxLambda(w, alpha)); }
+inline float ggxG(const Vec3& wo, const Vec3& wi, const GgxAlpha& alpha) {
+  return 1.0f / (1.0f + ggxLambda(wo, alpha) + ggxLambda(wi, alpha));
+}
+inline float ggxVisibleD(const Vec3& w, const Vec3& m, const GgxAlpha& alpha) {
+  return alpha.isotropic() ? ggxVisibleD(w, m, alpha.x) : ggxVisibleDAnisotropic(w, m, alpha);
+}
+inline Vec3 ggxSampleVisibleNormal(const Vec3& w, const GgxAlpha& alpha, Vec2 u) {
+  return alpha.isotropic() ? ggxSampleVisibleNormal(w, alpha.x, u) : ggxSampleVisibleNormalAnisotropic(w, alpha, u);
+}
 
 // ---- GGX reflection geometry shared by the reflection lobes (ggx_reflection.cpp).
 // The pair mirrored so that wo is on the upper side; false when not a usable reflection pair
