@@ -41,17 +41,7 @@ Vec3 ggxSampleVisibleNormal(const Vec3& w, float alpha, Vec2 u) {
   // From below, the point reflection -w sees the same microsurface from above; then w.m < 0
   // for the sampled m, as refraction out of the lower side needs.
   const Vec3 wu = w.z < 0.0f ? -w : w;
-  const Vec3 vh = glm::normalize(Vec3(alpha * wu.x, alpha * wu.y, wu.z));
-  const float lenSq = vh.x * vh.x + vh.y * vh.y;
-  const Vec3 t1 = lenSq > 0.0f ? Vec3(-vh.y, vh.x, 0.0f) / std::sqrt(lenSq) : Vec3(1.0f, 0.0f, 0.0f);
-  const Vec3 t2 = glm::cross(vh, t1);
-  const float r = std::sqrt(u.x);
-  const float phi = 2.0f * kPi * u.y;
-  const float p1 = r * std::cos(phi);
-  float p2 = r * std::sin(phi);
-  const float s = 0.5f * (1.0f + vh.z);
-  p2 = (1.0f - s) * std::sqrt(std::max(0.0f, 1.0f - p1 * p1)) + s * p2;
-  const Vec3 nh = p1 * t1 + p2 * t2 + std::sqrt(std::max(0.0f, 1.0f - p1 * p1 - p2 * p2)) * vh;
+  const Vec3 nh = visibleHemisphereNormal(glm::normalize(Vec3(alpha * wu.x, alpha * wu.y, wu.z)), u);
   const Vec3 ne(alpha * nh.x, alpha * nh.y, std::max(1e-6f, nh.z));
   return glm::normalize(ne);
 }

@@ -35,6 +35,20 @@ inline float ggxG(const Vec3& wo, const Vec3& wi, float alpha) {
 float ggxVisibleD(const Vec3& w, const Vec3& m, float alpha);
 // Samples m ~ D_w (m.z > 0; w below is treated as -w, so that w.m < 0 for it).
 Vec3 ggxSampleVisibleNormal(const Vec3& w, float alpha, Vec2 u);
+// Heitz 2018's core, shared by both samplers: a normal of the unit hemisphere distributed as
+// its projected area seen from the (stretched, unit, upper) direction vh.
+inline Vec3 visibleHemisphereNormal(const Vec3& vh, Vec2 u) {
+  const float lenSq = vh.x * vh.x + vh.y * vh.y;
+  const Vec3 t1 = lenSq > 0.0f ? Vec3(-vh.y, vh.x, 0.0f) / std::sqrt(lenSq) : Vec3(1.0f, 0.0f, 0.0f);
+  const Vec3 t2 = glm::cross(vh, t1);
+  const float r = std::sqrt(u.x);
+  const float phi = 2.0f * kPi * u.y;
+  const float p1 = r * std::cos(phi);
+  float p2 = r * std::sin(phi);
+  const float s = 0.5f * (1.0f + vh.z);
+  p2 = (1.0f - s) * std::sqrt(std::max(0.0f, 1.0f - p1 * p1)) + s * p2;
+  return p1 * t1 + p2 * t2 + std::sqrt(std::max(0.0f, 1.0f - p1 * p1 - p2 * p2)) * vh;
+}
 
 // The same with a lobe's alphas (ggx_anisotropic.h): equal alphas take the functions above.
 inline float ggxD(const Vec3& m, const GgxAlpha& alpha) {

@@ -13,6 +13,9 @@
 #include "renderer/core/warp.h"
 #include "renderer/sampling/pcg.h"
 #include "tests/renderer/chi_square.h"
+#include "tests/renderer/lobe_albedo.h"
+#include "tests/renderer/lobe_chi_square.h"
+#include "tests/renderer/ggx_quadrature.h"
 
 namespace tex::render {
 namespace {
@@ -51,15 +54,6 @@ Lobe dielectric(const AlphaPair& p, float eta) {
   return l;
 }
 
-test::ChiSquareResult chiSquareLobe(const Lobe& lobe, const Vec3& wo, test::DirectionTestOptions o) {
-  return test::chiSquareDirections(
-      [&](Vec2 u, float uc) -> std::optional<Vec3> {
-        const auto s = lobeSample(lobe, wo, uc, u, TransportMode::Radiance);
-        if (!s) return std::nullopt;
-        return s->wi;
-      },
-      [&](const Vec3& wi) { return double(lobePdf(lobe, wo, wi, TransportMode::Radiance)); }, o);
-}
 
 TEST(BsdfAnisotropic, DistributionAndVisibleNormalsIntegrateToOne) {
   for (const AlphaPair& p : kPairs) {
@@ -67,16 +61,7 @@ TEST(BsdfAnisotropic, DistributionAndVisibleNormalsIntegrateToOne) {
     const GgxAlpha alpha(p.x, p.y, p.rotationRad);
     const int nTheta = 4000, nPhi = 256;
     for (const Vec3& wo : {fromAngles(0.0f, 0.0f), fromAngles(1.0f, 0.3f), fromAngles(1.4f, 2.0f)}) {
-      double projected = 0, visible = 0;
-      for (int i = 0; i < nTheta; ++i)
-        for (int j = 0; j < nPhi; ++j) {
-          const double cosT = (i + 0.5) / nTheta, phi = (j + 0.5) * 2 * M_PI / nPhi;
-          const double sinT = std::sqrt(1 - cosT * cosT);
-          const Vec3 m(float(sinT * std::cos(phi)), float(sinT * std::sin(phi)), float(cosT));
-          const double dOmega = (1.0 / nTheta) * (2 * M_PI / nPhi);
-          projected += ggxD(m, alpha) * cosT * dOmega;
-          if (dot3(wo, m) > 0) visible += ggxVisibleD(wo, m, alpha) * dOmega;
-        }
+      const auto [projected, visible] = test::ggxNormalisation(alpha, wo, nTheta, nPhi);
       EXPECT_NEAR(projected, 1.0, 3e-3) << p.x << " " << p.y;
       EXPECT_NEAR(visible, 1.0, 4e-3) << p.x << " " << p.y << " wo.z " << wo.z;
     }
@@ -94,7 +79,7 @@ TEST(BsdfAnisotropic, ConductorSamplesFollowPdf) {
       o.seed = seed++;
       o.subdivisions = std::min(p.x, p.y) < 0.1f ? 48 : 24;
       o.refineTolerance = 0.1;
-      const auto r = chiSquareLobe(lobe, wo, o);
+      const auto r = test::chiSquareLobe(lobe, wo, o);
       std::printf("  aniso conductor (%.2f, %.2f, rot %.1f) wo.z %+.3f: p = %.3g\n", p.x, p.y, p.rotationRad, wo.z, r.pValue);
       EXPECT_TRUE(r.passed) << p.x << " " << p.y << " wo.z " << wo.z << ": " << r.detail;
     }
@@ -113,7 +98,7 @@ TEST(BsdfAnisotropic, DielectricSamplesFollowPdf) {
         const double etaP = wo.z > 0 ? eta : 1.0 / eta;
         o.cosThetaBreaks = {-wo.z / etaP};  // where the refraction density jumps (bsdf_rough_test.cpp)
         o.refineTolerance = 0.1;
-        const auto r = chiSquareLobe(lobe, wo, o);
+        const auto r = test::chiSquareLobe(lobe, wo, o);
         std::printf("  aniso dielectric (%.2f, %.2f, rot %.1f) eta %.3f wo.z %+.3f: p = %.3g\n", p.x, p.y, p.rotationRad,
                     eta, wo.z, r.pValue);
         EXPECT_TRUE(r.passed) << p.x << " " << p.y << " eta " << eta << " wo.z " << wo.z << ": " << r.detail;
@@ -204,17 +189,8 @@ TEST(BsdfAnisotropic, FurnaceIsAtMostOneAndBetweenTheIsotropicAlbedosOfItsAlphas
         EXPECT_GE(a, aHi - 0.01);
         EXPECT_LE(a, aLo + 0.01);
         if (theta == 0.7f && std::min(p.x, p.y) >= 0.1f) {
-          sampling::Pcg32 rng(34, 1);
-          double sum = 0, sumSquares = 0;
-          const int n = 400000;
-          for (int i = 0; i < n; ++i) {
-            const Vec3 wi = sampleUniformHemisphere(Vec2(rng.nextFloat(), rng.nextFloat()));
-            const double w = lobeEval(lobe, wo, wi, TransportMode::Radiance)[0] * wi.z / kUniformHemispherePdfW;
-            sum += w;
-            sumSquares += w * w;
-          }
-          const double mean = sum / n, standardError = std::sqrt((sumSquares / n - mean * mean) / n);
-          EXPECT_NEAR(a, mean, 5 * standardError + 3e-3);
+          const test::AlbedoEstimate uniform = test::uniformHemisphereAlbedo(lobe, wo, 34, 400000);
+          EXPECT_NEAR(a, uniform.mean, 5 * uniform.standardError + 3e-3);
         }
       }
     }

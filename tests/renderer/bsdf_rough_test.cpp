@@ -15,6 +15,9 @@
 #include "renderer/core/warp.h"
 #include "renderer/sampling/pcg.h"
 #include "tests/renderer/chi_square.h"
+#include "tests/renderer/lobe_albedo.h"
+#include "tests/renderer/lobe_chi_square.h"
+#include "tests/renderer/ggx_quadrature.h"
 
 namespace tex::render {
 namespace {
@@ -96,15 +99,6 @@ test::DirectionTestOptions dielectricChiOptions(uint64_t seed, const Vec3& wo, f
   return o;
 }
 
-test::ChiSquareResult chiSquareLobe(const Lobe& lobe, const Vec3& wo, const test::DirectionTestOptions& o) {
-  return test::chiSquareDirections(
-      [&](Vec2 u, float uc) -> std::optional<Vec3> {
-        const auto s = lobeSample(lobe, wo, uc, u, TransportMode::Radiance);
-        if (!s) return std::nullopt;
-        return s->wi;
-      },
-      [&](const Vec3& wi) { return double(lobePdf(lobe, wo, wi, TransportMode::Radiance)); }, o);
-}
 
 // ---------------------------------------------------------------- Distribution
 
@@ -114,16 +108,7 @@ TEST(BsdfRough, GgxDistributionIsNormalizedAndVisibleNormalsIntegrateToOne) {
   for (float alpha : {0.1f, 0.3f, 0.7f, 1.0f}) {
     const int nTheta = 4000, nPhi = 64;
     for (const Vec3& wo : {fromAngles(0.0f, 0.0f), fromAngles(1.0f, 0.3f), fromAngles(1.5f, 2.0f)}) {
-      double projected = 0, visible = 0;
-      for (int i = 0; i < nTheta; ++i)
-        for (int j = 0; j < nPhi; ++j) {
-          const double cosT = (i + 0.5) / nTheta, phi = (j + 0.5) * 2 * M_PI / nPhi;
-          const double sinT = std::sqrt(1 - cosT * cosT);
-          const Vec3 m(float(sinT * std::cos(phi)), float(sinT * std::sin(phi)), float(cosT));
-          const double dOmega = (1.0 / nTheta) * (2 * M_PI / nPhi);
-          projected += ggxD(m, alpha) * cosT * dOmega;
-          if (dot3(wo, m) > 0) visible += ggxVisibleD(wo, m, alpha) * dOmega;
-        }
+      const auto [projected, visible] = test::ggxNormalisation(alpha, wo, nTheta, nPhi);
       EXPECT_NEAR(projected, 1.0, 2e-3) << alpha;
       EXPECT_NEAR(visible, 1.0, 3e-3) << "alpha " << alpha << " wo.z " << wo.z;
     }
@@ -138,7 +123,7 @@ TEST(BsdfRough, ConductorSamplesFollowPdf) {
     const Lobe lobe = roughConductor(alpha, lanes({0.2f, 1.1f, 0.5f}), lanes({3.0f, 2.0f, 0.0f}));
     for (const Vec3& wo : {fromAngles(0.3f, 0.5f), fromAngles(1.2f, 2.0f), fromAngles(1.53f, 4.0f),
                            fromAngles(2.5f, 1.0f)}) {
-      const auto r = chiSquareLobe(lobe, wo, conductorChiOptions(seed++, alpha));
+      const auto r = test::chiSquareLobe(lobe, wo, conductorChiOptions(seed++, alpha));
       EXPECT_TRUE(r.passed) << "alpha " << alpha << " wo.z " << wo.z << ": " << r.detail;
     }
   }
@@ -148,7 +133,7 @@ void dielectricChiSquare(float alpha, uint64_t seed) {
   for (float eta : kChiSquareEtas) {
     const Lobe lobe = roughDielectric(alpha, uniform(eta));
     for (const Vec3& wo : {fromAngles(0.5f, 0.5f), fromAngles(1.53f, 2.0f), fromAngles(2.4f, 1.0f)}) {
-      const auto r = chiSquareLobe(lobe, wo, dielectricChiOptions(seed++, wo, eta));
+      const auto r = test::chiSquareLobe(lobe, wo, dielectricChiOptions(seed++, wo, eta));
       EXPECT_TRUE(r.passed) << "alpha " << alpha << " eta " << eta << " wo.z " << wo.z << ": " << r.detail;
     }
   }
@@ -432,17 +417,8 @@ TEST(BsdfRough, ConductorFurnaceIsAtMostOneAndNearOneWhenSmooth) {
         EXPECT_LT(a.mean, 1.0 - alpha * alpha / (1 + alpha * alpha) + 1e-3);
       }
       if (alpha >= 0.2f) {
-        sampling::Pcg32 rng(32, 1);
-        double sum = 0, sumSquares = 0;
-        const int n = 400000;
-        for (int i = 0; i < n; ++i) {
-          const Vec3 wi = sampleUniformHemisphere(Vec2(rng.nextFloat(), rng.nextFloat()));
-          const double w = lobeEval(lobe, wo, wi, TransportMode::Radiance)[0] * wi.z / kUniformHemispherePdfW;
-          sum += w;
-          sumSquares += w * w;
-        }
-        const double mean = sum / n, standardError = std::sqrt((sumSquares / n - mean * mean) / n);
-        EXPECT_NEAR(a.mean, mean, 5 * standardError + 3e-3) << alpha << " " << theta;
+        const test::AlbedoEstimate uniform = test::uniformHemisphereAlbedo(lobe, wo, 32, 400000);
+        EXPECT_NEAR(a.mean, uniform.mean, 5 * uniform.standardError + 3e-3) << alpha << " " << theta;
       }
     }
   }
@@ -544,7 +520,7 @@ TEST(BsdfRough, RoughThinDielectricSamplesFollowPdf) {
   for (float alpha : kAlphas) {
     const Lobe lobe = roughThin(alpha, uniform(1.5f));
     for (const Vec3& wo : {fromAngles(0.3f, 0.5f), fromAngles(1.3f, 2.0f), fromAngles(2.5f, 1.0f)}) {
-      const auto r = chiSquareLobe(lobe, wo, conductorChiOptions(seed++, alpha));
+      const auto r = test::chiSquareLobe(lobe, wo, conductorChiOptions(seed++, alpha));
       EXPECT_TRUE(r.passed) << "alpha " << alpha << " wo.z " << wo.z << ": " << r.detail;
     }
   }

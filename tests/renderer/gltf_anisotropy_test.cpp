@@ -16,6 +16,8 @@
 #include "renderer/material/tex_binding.h"
 #include "renderer/sampling/pcg.h"
 #include "renderer/scene/gltf_loader.h"
+#include "tests/renderer/gltf_entry.h"
+#include "tests/renderer/gltf_extension_loading.h"
 
 namespace tex::render {
 namespace {
@@ -23,25 +25,9 @@ namespace {
 namespace fs = std::filesystem;
 using json = nlohmann::json;
 
-constexpr int kWavelengths = 4;
-
-const CompiledGltf& gltfEntry() {
-  static const CompiledGltf* compiled = [] {
-    auto* c = new CompiledGltf;
-    std::string error;
-    EXPECT_TRUE(compileGltfMaterial(kWavelengths, false, false, *c, error)) << error;
-    return c;
-  }();
-  return *compiled;
-}
-
-ShadingPoint flatPoint() {
-  ShadingPoint p;
-  p.ng = p.ns = Vec3(0, 0, 1);
-  p.dpdu = Vec3(1, 0, 0);
-  p.dpdv = Vec3(0, 1, 0);
-  return p;
-}
+constexpr int kWavelengths = test::kGltfEntryWavelengths;
+using test::flatPoint;
+using test::gltfEntry;
 
 Bsdf shade(const GltfInputs& in) {
   static const Wavelengths lambda = color::sampleWavelengthGroup(0.3f, kWavelengths);
@@ -66,33 +52,11 @@ Vec3 tilted(float thetaRad, float phiRad) {
 
 // ---- loading -----------------------------------------------------------------------------
 
-class GltfAnisotropyLoading : public ::testing::Test {
+class GltfAnisotropyLoading : public test::GltfExtensionLoading {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("tex_gltf_aniso_test_" + std::to_string(::getpid()));
-    fs::create_directories(dir_);
-    std::ifstream in(TEX_SOURCE_DIR "/tests/renderer/data/scenes/quad.gltf");
-    base_ = json::parse(in);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
   std::optional<SceneDescription> load(const json& extension, std::vector<std::string>& errors) {
-    json doc = base_;
-    doc["materials"][0]["extensions"] = {{"KHR_materials_anisotropy", extension}};
-    doc["extensionsUsed"] = {"KHR_materials_anisotropy"};
-    doc["extensionsRequired"] = {"KHR_materials_anisotropy"};  // supported: required is fine
-    const std::string path = (dir_ / "aniso.gltf").string();
-    std::ofstream(path) << doc.dump();
-    return loadGltf(path, errors);
+    return loadWithExtensions({{"KHR_materials_anisotropy", extension}}, errors, "aniso.gltf");
   }
-  static bool anyContains(const std::vector<std::string>& lines, const std::string& needle) {
-    for (const std::string& line : lines)
-      if (line.find(needle) != std::string::npos) return true;
-    return false;
-  }
-
-  fs::path dir_;
-  json base_;
 };
 
 TEST_F(GltfAnisotropyLoading, ReadsStrengthRotationAndTexture) {

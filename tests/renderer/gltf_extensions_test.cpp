@@ -19,6 +19,8 @@
 #include "renderer/material/tex_binding.h"
 #include "renderer/sampling/pcg.h"
 #include "renderer/scene/gltf_loader.h"
+#include "tests/renderer/gltf_entry.h"
+#include "tests/renderer/gltf_extension_loading.h"
 #include "tests/renderer/scene_fixtures.h"
 
 namespace tex::render {
@@ -27,30 +29,13 @@ namespace {
 namespace fs = std::filesystem;
 using json = nlohmann::json;
 
-constexpr int kWavelengths = 4;
-
-const CompiledGltf& gltfEntry() {
-  static const CompiledGltf* compiled = [] {
-    auto* c = new CompiledGltf;
-    std::string error;
-    EXPECT_TRUE(compileGltfMaterial(kWavelengths, false, false, *c, error)) << error;
-    return c;
-  }();
-  return *compiled;
-}
+constexpr int kWavelengths = test::kGltfEntryWavelengths;
+using test::flatPoint;
+using test::gltfEntry;
 
 const Wavelengths& lambdas() {
   static const Wavelengths lambda = color::sampleWavelengthGroup(0.3f, kWavelengths);
   return lambda;
-}
-
-ShadingPoint flatPoint() {
-  ShadingPoint p;
-  p.p = Vec3(0.1f, 0.2f, 0.3f);
-  p.ng = p.ns = Vec3(0, 0, 1);
-  p.dpdu = Vec3(1, 0, 0);
-  p.dpdv = Vec3(0, 1, 0);
-  return p;
 }
 
 // The glTF material's Bsdf for these inputs (in the shading frame: local = world).
@@ -463,35 +448,11 @@ TEST(GltfExtensions, ClearcoatWithItsOwnNormalConservesEnergyAndSamplesWhatItEva
 
 // ---- loading -----------------------------------------------------------------------------
 
-class GltfExtensionsLoading : public ::testing::Test {
+class GltfExtensionsLoading : public test::GltfExtensionLoading {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("tex_gltf_ext_test_" + std::to_string(::getpid()));
-    fs::create_directories(dir_);
-    std::ifstream in(TEX_SOURCE_DIR "/tests/renderer/data/scenes/quad.gltf");
-    base_ = json::parse(in);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
   std::optional<SceneDescription> load(const json& extensions, std::vector<std::string>& errors) {
-    json doc = base_;
-    doc["materials"][0]["extensions"] = extensions;
-    json used = json::array();
-    for (const auto& [name, value] : extensions.items()) used.push_back(name);
-    doc["extensionsUsed"] = used;
-    doc["extensionsRequired"] = used;  // supported: required is fine
-    const std::string path = (dir_ / "layers.gltf").string();
-    std::ofstream(path) << doc.dump();
-    return loadGltf(path, errors);
+    return loadWithExtensions(extensions, errors, "layers.gltf");
   }
-  static bool anyContains(const std::vector<std::string>& lines, const std::string& needle) {
-    for (const std::string& line : lines)
-      if (line.find(needle) != std::string::npos) return true;
-    return false;
-  }
-
-  fs::path dir_;
-  json base_;
 };
 
 TEST_F(GltfExtensionsLoading, ReadsTheThreeExtensionsWhenRequired) {
