@@ -299,8 +299,10 @@ Spectrum PathTracer::radiance(const sampling::IndexSampler& samples, const Ray& 
     Bsdf bsdf(Frame::fromNormalTangent(hit.ns, hit.dpdu), hit.ng);
     Spectrum Le;
     if (!materials.shade(material, sp, lambda, bsdf, Le)) ++counters.materialFailures;
-    // Emission under a clearcoat leaves through it (before immersion, as light samples see it).
-    if (!Le.isBlack() && bsdf.hasClearcoat()) Le *= bsdf.clearcoatEmissionFactor(wo);
+    // Emission under a glTF clearcoat leaves through it (before immersion, as light samples see
+    // it; the same predicate as theirs: a .tex material's emission under a coat is not darkened).
+    if (!Le.isBlack() && bsdf.hasClearcoat() && materials.emissionUnderClearcoat(material))
+      Le *= bsdf.clearcoatEmissionFactor(wo);
     // Inside a volume, this surface's interfaces are with that volume's medium, not air (water
     // in a glass bends light by 1.33 / 1.5; immerseInOutsideMedium says which medium).
     const bool backFace = dot3(ray.direction, hit.ng) > 0.0f;

@@ -251,7 +251,11 @@ bool MaterialSystem::emitsBothSides(int material) const {
 bool MaterialSystem::emissionUnderClearcoat(int material) const {
   const Impl& im = *impl_;
   const int s = im.slot(material);
-  return im.gltf(s) && im.bindingOfMaterial[size_t(s)] < 0 && im.gltf(s)->clearcoatFactor > 0.0f && isEmissive(material);
+  // (With KHR_materials_ior's 0, the compatibility mirror, std.gltf's clearcoat is a partial
+  // coat over the mirror, not a clearcoat: not darkened; docs/gltf-extensions.md.)
+  const GltfMaterial* m = im.gltf(s);
+  return m && im.bindingOfMaterial[size_t(s)] < 0 && m->clearcoatFactor > 0.0f && m->ior != 0.0f && !m->unlit &&
+         isEmissive(material);
 }
 
 bool MaterialSystem::interiorAbsorption(int material, const Wavelengths& lambda, Spectrum& sigmaA) const {

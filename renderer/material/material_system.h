@@ -69,9 +69,10 @@ class MaterialSystem {
   // The fixed wavelength group materials are probed with (averageEmission, light power).
   const Wavelengths& probeWavelengths() const;
   bool emitsBothSides(int material) const;
-  // Whether the emission leaves through a clearcoat (a glTF material with emission and
-  // KHR_materials_clearcoat), which darkens it by direction (Bsdf::clearcoatEmissionFactor): a
-  // light sample of it then shades the whole material at the point.
+  // Whether the emission leaves through a clearcoat (a glTF material, not bound to .tex, with
+  // emission and KHR_materials_clearcoat, and an IOR other than 0), which darkens it by direction
+  // (Bsdf::clearcoatEmissionFactor): a light sample of it then shades the whole material at the
+  // point, and a path that hits it applies the factor; for every other material neither does.
   bool emissionUnderClearcoat(int material) const;
   // Beer-Lambert absorption inside a closed object of this material (KHR_materials_volume:
   // transmittance attenuationColor^(d / attenuationDistance)): the absorption coefficient per
