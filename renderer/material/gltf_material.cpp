@@ -160,7 +160,20 @@ void gltfAnisotropyInto(const SceneDescription& scene, const GltfMaterial& m, co
     in.anisotropyRotationRad = angle;  // no tangent: the shading frame's own x axis stands in
     return;
   }
-  const Vec3 direction = t * std::cos(angle) + glm::cross(shading.n, t) * w * std::sin(angle);
+  Vec3 direction = t * std::cos(angle) + glm::cross(shading.n, t) * w * std::sin(angle);
+  const TextureRef& map = m.anisotropyTexture;
+  if (map.image >= 0 && (map.rotation != 0.0f || map.scale != Vec2(1.0f))) {
+    // The texel's direction lies in the texture's own tangent frame, which its
+    // KHR_texture_transform turns (as a normal map's); anisotropyRotation then turns it about
+    // the normal in the mesh's tangent frame.
+    Vec3 textureT = t;
+    float textureW = w;
+    turnTangentWithTextureTransform(map, shading.n, textureT, textureW);
+    const Vec3 fromTexture =
+        textureT * std::cos(texAngle) + glm::cross(shading.n, textureT) * textureW * std::sin(texAngle);
+    const float r = m.anisotropyRotationRad;
+    direction = fromTexture * std::cos(r) + glm::cross(shading.n, fromTexture) * w * std::sin(r);
+  }
   in.anisotropyRotationRad = std::atan2(dot3(direction, shading.t), dot3(direction, shading.s));
 }
 

@@ -131,6 +131,18 @@ TEST(GltfAnisotropy, DirectionIsRotationPlusTextureInTheTangentFrameAndStrengthT
   p.tangent = Vec4(1, 0, 0, 1);
   gltfAnisotropyInto(scene, m, p, Frame::fromNormalTangent(Vec3(0, 0, 1), Vec3(0, 1, 0)), in);
   EXPECT_NEAR(in.anisotropyRotationRad, 0.25f + texAngle - 1.5707963f, 2e-3f);
+  // The texture's KHR_texture_transform turns the frame its texels' directions are in, as a
+  // normal map's: a rotation by 0.5 turns the texture's tangent to -0.5 here (uv' = R uv), and a
+  // mirroring scale mirrors the texel's angle; anisotropyRotation stays in the mesh's frame.
+  p.tangent = Vec4(1, 0, 0, 1);
+  m.anisotropyTexture.rotation = 0.5f;
+  gltfAnisotropyInto(scene, m, p, Frame(), in);
+  EXPECT_NEAR(in.anisotropyRotationRad, 0.25f + texAngle - 0.5f, 2e-3f);
+  m.anisotropyTexture.rotation = 0.0f;
+  m.anisotropyTexture.scale = Vec2(-1.0f, 1.0f);
+  gltfAnisotropyInto(scene, m, p, Frame(), in);
+  EXPECT_NEAR(in.anisotropyRotationRad, 0.25f + 3.14159265f - texAngle, 2e-3f);
+  m.anisotropyTexture.scale = Vec2(1.0f);
   EXPECT_TRUE(gltfReadsHit(scene, m));  // the direction depends on each point's frame
   m.anisotropyStrength = 0.0f;
   GltfInputs none;
