@@ -48,6 +48,18 @@ void addPixelFootprint(ShadingPoint& sp, const Ray& dx, const Ray& dy) {
   if (!std::isfinite(sp.duvdx.x + sp.duvdx.y + sp.duvdy.x + sp.duvdy.y)) sp.duvdx = sp.duvdy = Vec2(0.0f);
 }
 
+// How a shadow ray along wi from a surface (material, geometric normal ng, the path arriving
+// from wo) crosses it: not at all (wi on wo's side, or through a thin wall, which keeps wo's
+// medium), into this object's volume (a .tex solid counts: it absorbs nothing), or out of it.
+enum class ShadowCrossing { None, Enters, Leaves };
+ShadowCrossing shadowCrossing(const MaterialSystem& materials, int material, const Vec3& ng, const Vec3& wo, const Vec3& wi) {
+  const bool entering = dot3(wi, ng) < 0.0f;
+  if (entering == (dot3(wo, ng) < 0.0f)) return ShadowCrossing::None;
+  if (!entering) return ShadowCrossing::Leaves;
+  return materials.transmitsIntoAVolume(material) || !materials.mayPassStraightRays(material) ? ShadowCrossing::Enters
+                                                                                                 : ShadowCrossing::None;
+}
+
 // Beer-Lambert transmittance of an unoccluded shadow ray from a surface (material, geometric
 // normal ng, path arriving from wo through segmentMedium) to a light sample. On wo's side it
 // travels in segmentMedium; through the surface, into this object's volume when it enters one,
@@ -55,13 +67,10 @@ void addPixelFootprint(ShadingPoint& sp, const Ray& dx, const Ray& dy) {
 Spectrum shadowTransmittance(const MaterialSystem& materials, const MediumStack& media, int material, int segmentMedium,
                              const Vec3& ng, const Vec3& wo, const LightLiSample& ls, const Wavelengths& lambda) {
   int medium = segmentMedium;
-  const bool entering = dot3(ls.wi, ng) < 0.0f;
-  if (entering != (dot3(wo, ng) < 0.0f)) {  // through the surface
-    if (entering && (materials.transmitsIntoAVolume(material) || !materials.mayPassStraightRays(material)))
-      medium = material;  // into this object (a .tex solid absorbs nothing; thin walls keep wo's medium)
-    else if (!entering && media.contains(material))
-      medium = media.innermostOutside(material);  // out of it, into what surrounds it
-  }
+  const ShadowCrossing crossing = shadowCrossing(materials, material, ng, wo, ls.wi);
+  if (crossing == ShadowCrossing::Enters) medium = material;  // into this object
+  else if (crossing == ShadowCrossing::Leaves && media.contains(material))
+    medium = media.innermostOutside(material);  // out of it, into what surrounds it
   Spectrum sigmaA;
   if (medium < 0 || !materials.interiorAbsorption(medium, lambda, sigmaA)) return Spectrum(1.0f);
   if (!std::isfinite(ls.distance)) return Spectrum();  // to a light at infinity from inside a volume
@@ -73,11 +82,9 @@ Spectrum shadowTransmittance(const MaterialSystem& materials, const MediumStack&
 MediumStack mediaAlongShadowRay(const MaterialSystem& materials, const MediumStack& media, int material, const Vec3& ng,
                                 const Vec3& wo, const Vec3& wi) {
   MediumStack along = media;
-  const bool entering = dot3(wi, ng) < 0.0f;
-  if (entering != (dot3(wo, ng) < 0.0f)) {
-    if (entering && (materials.transmitsIntoAVolume(material) || !materials.mayPassStraightRays(material))) along.enter(material);
-    else if (!entering) along.leave(material);
-  }
+  const ShadowCrossing crossing = shadowCrossing(materials, material, ng, wo, wi);
+  if (crossing == ShadowCrossing::Enters) along.enter(material);
+  else if (crossing == ShadowCrossing::Leaves) along.leave(material);
   return along;
 }
 

@@ -153,27 +153,22 @@ void gltfAnisotropyInto(const SceneDescription& scene, const GltfMaterial& m, co
   in.anisotropyStrength = std::clamp(m.anisotropyStrength * texel.z, 0.0f, 1.0f);
   const Vec2 texDir(texel.x * 2.0f - 1.0f, texel.y * 2.0f - 1.0f);
   const float texAngle = texDir == Vec2(0.0f) ? 0.0f : std::atan2(texDir.y, texDir.x);
-  const float angle = m.anisotropyRotationRad + texAngle;
   Vec3 t;
   float w;
   if (!gltfTangentFrame(point, shading.n, t, w)) {
-    in.anisotropyRotationRad = angle;  // no tangent: the shading frame's own x axis stands in
+    // No tangent: the shading frame's own x axis stands in.
+    in.anisotropyRotationRad = m.anisotropyRotationRad + texAngle;
     return;
   }
-  Vec3 direction = t * std::cos(angle) + glm::cross(shading.n, t) * w * std::sin(angle);
-  const TextureRef& map = m.anisotropyTexture;
-  if (map.image >= 0 && (map.rotation != 0.0f || map.scale != Vec2(1.0f))) {
-    // The texel's direction lies in the texture's own tangent frame, which its
-    // KHR_texture_transform turns (as a normal map's); anisotropyRotation then turns it about
-    // the normal in the mesh's tangent frame.
-    Vec3 textureT = t;
-    float textureW = w;
-    turnTangentWithTextureTransform(map, shading.n, textureT, textureW);
-    const Vec3 fromTexture =
-        textureT * std::cos(texAngle) + glm::cross(shading.n, textureT) * textureW * std::sin(texAngle);
-    const float r = m.anisotropyRotationRad;
-    direction = fromTexture * std::cos(r) + glm::cross(shading.n, fromTexture) * w * std::sin(r);
-  }
+  // The texel's direction lies in the texture's own tangent frame, which its
+  // KHR_texture_transform turns (as a normal map's; without one it is the mesh's);
+  // anisotropyRotation then turns it about the normal in the mesh's tangent frame.
+  Vec3 textureT = t;
+  float textureW = w;
+  if (m.anisotropyTexture.image >= 0) turnTangentWithTextureTransform(m.anisotropyTexture, shading.n, textureT, textureW);
+  const Vec3 fromTexture = textureT * std::cos(texAngle) + glm::cross(shading.n, textureT) * textureW * std::sin(texAngle);
+  const float r = m.anisotropyRotationRad;
+  const Vec3 direction = fromTexture * std::cos(r) + glm::cross(shading.n, fromTexture) * w * std::sin(r);
   in.anisotropyRotationRad = std::atan2(dot3(direction, shading.t), dot3(direction, shading.s));
 }
 

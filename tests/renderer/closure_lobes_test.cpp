@@ -253,11 +253,6 @@ TEST(ClosureLobes, NonFiniteColoursAndMixWeightsFail) {
   EXPECT_TRUE(shade(c.bindings.bindings[11]).result.ok);
 }
 
-}  // namespace
-}  // namespace tex::render
-
-namespace tex::render {
-namespace {
 
 // A glossy exponent beyond 1e15 is 1e15 (a mirror for every purpose): glossy_dielectric had lost
 // its whole transmission at n = 1e19 (0.023 where the smooth dielectric gives 0.559).
@@ -326,11 +321,6 @@ TEST(ClosureLobes, GlossyCoatLayersAsTheMatchingGgxCoat) {
   EXPECT_TRUE(s.bsdf.lobe(0).underCoat);
 }
 
-}  // namespace
-}  // namespace tex::render
-
-namespace tex::render {
-namespace {
 
 TEST(ClosureLobes, SheenMapsToItsLobeAndCoatsLambertianBases) {
   const Compiled c = compileEntries(
@@ -545,11 +535,6 @@ TEST(ClosureLobes, SheenOverOtherBasesIsACoverAndSheenUnderSheenFails) {
   EXPECT_FALSE(shade(c.bindings.bindings[3]).result.ok);
 }
 
-}  // namespace
-}  // namespace tex::render
-
-namespace tex::render {
-namespace {
 
 // What a shadow ray passes through a wall (Bsdf::straightThrough) is what BSDF samples marked
 // straight carry on average (f |cos| / pdf over the lobe choice), lane by lane, and they leave
