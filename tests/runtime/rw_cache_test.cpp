@@ -38,20 +38,27 @@ TEST(RwCache, StressConcurrentInsertAndLookupWithManyThreads) {
   const int writers = 8, readers = 4;
   const uint64_t perWriter = 60000;
   std::atomic<bool> writing{true};
+  std::atomic<int> readersStarted{0};
   std::atomic<uint64_t> torn{0}, seen{0};
   std::vector<std::thread> threads;
+  // Readers look up while the writers insert, then sweep every key once more: on a machine with
+  // fewer cores than threads a reader may not be scheduled at all while the writers run (the
+  // check that readers saw entries failed on 2 cores), and the last sweep still reads lists that
+  // were built under contention.
   for (int r = 0; r < readers; ++r) {
     threads.emplace_back([&, r] {
-      uint64_t key = r;
-      while (writing.load()) {
+      const auto lookUp = [&](uint64_t key) {
         cache.forEach(key % 97, [&](const RwCache<Photon>::Entry& e) {
           if (e.value.b != 3 * e.value.a + 1 || e.key != e.value.a % 97) torn.fetch_add(1);
           seen.fetch_add(1, std::memory_order_relaxed);
         });
-        ++key;
-      }
+      };
+      readersStarted.fetch_add(1);
+      for (uint64_t key = uint64_t(r); writing.load(); ++key) lookUp(key);
+      for (uint64_t key = 0; key < 97; ++key) lookUp(key);
     });
   }
+  while (readersStarted.load() < readers) std::this_thread::yield();  // writers start on running readers
   std::vector<std::thread> writerThreads;
   for (int w = 0; w < writers; ++w) {
     writerThreads.emplace_back([&, w] {
